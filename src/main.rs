@@ -1,0 +1,2 @@
+//! The `cadmorph` command-line tool.
+fn main() {}
