@@ -1,1 +1,135 @@
-//! placeholder
+//! NURBS curves and surfaces: evaluation, derivatives, refinement and projection.
+//!
+//! `cadmorph-nurbs` owns the geometry of cadmorph: knot vectors, B-spline basis
+//! functions, [`NurbsCurve`] and [`NurbsSurface`] with rational and non-rational
+//! evaluation, derivatives of any order, knot insertion, refinement and removal,
+//! degree elevation, Bézier decomposition, splitting, reversal, iso and boundary
+//! curves. It knows nothing of files or deformations; see `cadmorph-iges`,
+//! `cadmorph-step` and `cadmorph-morph`.
+//!
+//! The algorithms are those of Piegl & Tiller, *The NURBS Book* (2nd ed.), cited by
+//! number (A2.1 … A5.9) where they are implemented. They are written here rather than
+//! taken from a crate because cadmorph needs all of them on one representation with
+//! OCCT-grade accuracy and typed errors: `truck-geometry` lacks knot removal and
+//! rational surface derivatives of arbitrary order, and `curvo` (used as a test oracle)
+//! works on homogeneous `OPoint` types we do not want as vocabulary.
+//!
+//! Points and vectors are nalgebra's `Point3<f64>` / `Vector3<f64>`, re-exported as
+//! [`math`].
+//!
+//! ```
+//! use cadmorph_nurbs::{NurbsSurface, Surface};
+//! let plane = NurbsSurface::bilinear([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]]);
+//! assert_eq!(plane.eval(0.5, 0.5).z, 0.0);
+//! ```
+//!
+//! The crate has no feature flags.
+
+use std::ops::RangeInclusive;
+
+use nalgebra::{Point3, Unit, Vector3};
+
+mod algo;
+mod basis;
+mod curve;
+mod error;
+mod knots;
+mod surface;
+pub mod tol;
+
+pub use basis::{basis_funs, ders_basis_funs};
+pub use curve::NurbsCurve;
+pub use error::{Error, Result};
+pub use knots::KnotVector;
+pub use surface::{NurbsSurface, Side, SurfaceDerivs, SurfacePointD1};
+
+/// The vocabulary types of cadmorph (nalgebra).
+pub mod math {
+    pub use nalgebra::{Matrix3, Matrix4, Point3, Rotation3, Unit, Vector3, Vector4};
+}
+
+/// The highest degree any curve or surface may have (OCCT's
+/// `Geom_BSplineSurface::MaxDegree()` is 25 as well).
+pub const MAX_DEGREE: usize = 25;
+
+/// A curve C: [t₀, t₁] → ℝ³.
+pub trait Curve {
+    /// Parameter domain `t₀..=t₁`.
+    fn domain(&self) -> RangeInclusive<f64>;
+    /// The point C(t). Parameters outside the domain are evaluated on the nearest end
+    /// span's polynomial (an extrapolation), never a panic.
+    fn eval(&self, t: f64) -> Point3<f64>;
+    /// Derivatives `d[k] = dᵏC/dtᵏ` for `k = 0..=n` (`d[0]` is the point as a vector).
+    fn derivs(&self, t: f64, n: usize) -> Vec<Vector3<f64>>;
+}
+
+/// A surface S: [u₀, u₁] × [v₀, v₁] → ℝ³.
+pub trait Surface {
+    /// Parameter domain `(u₀..=u₁, v₀..=v₁)`.
+    fn domain(&self) -> (RangeInclusive<f64>, RangeInclusive<f64>);
+    /// The point S(u, v).
+    fn eval(&self, u: f64, v: f64) -> Point3<f64>;
+    /// All partials up to total order `n`: `d[(k, l)] = ∂^(k+l) S / ∂u^k ∂v^l`
+    /// (Piegl & Tiller A3.6, rational form A4.4). `d[(0, 0)]` is the point.
+    fn derivs(&self, u: f64, v: f64, n: usize) -> SurfaceDerivs;
+    /// Unit normal `S_u × S_v / |S_u × S_v|`, or `None` where the cross product
+    /// vanishes (poles, collapsed edges).
+    fn normal(&self, u: f64, v: f64) -> Option<Unit<Vector3<f64>>> {
+        let d = self.derivs(u, v, 1);
+        Unit::try_new(d[(1, 0)].cross(&d[(0, 1)]), f64::EPSILON)
+    }
+}
+
+impl<C: Curve + ?Sized> Curve for &C {
+    fn domain(&self) -> RangeInclusive<f64> {
+        (**self).domain()
+    }
+    fn eval(&self, t: f64) -> Point3<f64> {
+        (**self).eval(t)
+    }
+    fn derivs(&self, t: f64, n: usize) -> Vec<Vector3<f64>> {
+        (**self).derivs(t, n)
+    }
+}
+
+impl<C: Curve + ?Sized> Curve for Box<C> {
+    fn domain(&self) -> RangeInclusive<f64> {
+        (**self).domain()
+    }
+    fn eval(&self, t: f64) -> Point3<f64> {
+        (**self).eval(t)
+    }
+    fn derivs(&self, t: f64, n: usize) -> Vec<Vector3<f64>> {
+        (**self).derivs(t, n)
+    }
+}
+
+impl<S: Surface + ?Sized> Surface for &S {
+    fn domain(&self) -> (RangeInclusive<f64>, RangeInclusive<f64>) {
+        (**self).domain()
+    }
+    fn eval(&self, u: f64, v: f64) -> Point3<f64> {
+        (**self).eval(u, v)
+    }
+    fn derivs(&self, u: f64, v: f64, n: usize) -> SurfaceDerivs {
+        (**self).derivs(u, v, n)
+    }
+    fn normal(&self, u: f64, v: f64) -> Option<Unit<Vector3<f64>>> {
+        (**self).normal(u, v)
+    }
+}
+
+impl<S: Surface + ?Sized> Surface for Box<S> {
+    fn domain(&self) -> (RangeInclusive<f64>, RangeInclusive<f64>) {
+        (**self).domain()
+    }
+    fn eval(&self, u: f64, v: f64) -> Point3<f64> {
+        (**self).eval(u, v)
+    }
+    fn derivs(&self, u: f64, v: f64, n: usize) -> SurfaceDerivs {
+        (**self).derivs(u, v, n)
+    }
+    fn normal(&self, u: f64, v: f64) -> Option<Unit<Vector3<f64>>> {
+        (**self).normal(u, v)
+    }
+}

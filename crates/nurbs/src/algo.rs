@@ -1,0 +1,362 @@
+//! Knot insertion, refinement, removal and degree elevation on homogeneous control
+//! points (Piegl & Tiller A5.1, A5.4, A5.8, A5.9).
+//!
+//! Everything here works on one row of homogeneous points `Pw = (w·x, w·y, w·z, w)`;
+//! curves call it once, surfaces once per row or column. Non-rational splines pass
+//! `w = 1`, so one code path serves both.
+
+use nalgebra::Vector4;
+
+pub(crate) type Hom = Vector4<f64>;
+
+/// Index `k` of the last knot `≤ u`, and the multiplicity `s` of `u` (exact equality).
+pub(crate) fn insertion_span(knots: &[f64], u: f64) -> (usize, usize) {
+    let count_le = knots.partition_point(|&k| k <= u);
+    let s = knots[..count_le].iter().rev().take_while(|&&k| k == u).count();
+    (count_le.saturating_sub(1), s)
+}
+
+/// A5.1: inserts `u` `r` times (caller ensures `r + s ≤ p` and `u` inside the domain).
+pub(crate) fn insert_knot(
+    p: usize,
+    knots: &[f64],
+    pw: &[Hom],
+    u: f64,
+    k: usize,
+    s: usize,
+    r: usize,
+) -> (Vec<f64>, Vec<Hom>) {
+    let np = pw.len() - 1;
+    let mp = np + p + 1;
+    let mut uq = Vec::with_capacity(knots.len() + r);
+    uq.extend_from_slice(&knots[..=k]);
+    uq.extend(std::iter::repeat_n(u, r));
+    uq.extend_from_slice(&knots[k + 1..=mp]);
+    let mut qw = vec![Hom::zeros(); np + r + 1];
+    qw[..=k - p].copy_from_slice(&pw[..=k - p]);
+    for i in k - s..=np {
+        qw[i + r] = pw[i];
+    }
+    let mut rw: Vec<Hom> = (0..=p - s).map(|i| pw[k - p + i]).collect();
+    let mut l = k - p;
+    for j in 1..=r {
+        l = k - p + j;
+        for i in 0..=p - j - s {
+            let alpha = (u - knots[l + i]) / (knots[i + k + 1] - knots[l + i]);
+            rw[i] = rw[i + 1] * alpha + rw[i] * (1.0 - alpha);
+        }
+        qw[l] = rw[0];
+        qw[k + r - j - s] = rw[p - j - s];
+    }
+    for i in l + 1..k - s {
+        qw[i] = rw[i - l];
+    }
+    (uq, qw)
+}
+
+/// A5.4: inserts all of `x` (sorted, inside the domain) at once.
+pub(crate) fn refine(p: usize, knots: &[f64], pw: &[Hom], x: &[f64]) -> (Vec<f64>, Vec<Hom>) {
+    if x.is_empty() {
+        return (knots.to_vec(), pw.to_vec());
+    }
+    let n = pw.len() - 1;
+    let m = n + p + 1;
+    let r = x.len() - 1;
+    let a = crate::knots::find_span(knots, p, x[0]);
+    let b = crate::knots::find_span(knots, p, x[r]) + 1;
+    let mut qw = vec![Hom::zeros(); n + r + 2];
+    let mut ub = vec![0.0; m + r + 2];
+    qw[..=a - p].copy_from_slice(&pw[..=a - p]);
+    for j in b - 1..=n {
+        qw[j + r + 1] = pw[j];
+    }
+    ub[..=a].copy_from_slice(&knots[..=a]);
+    for j in b + p..=m {
+        ub[j + r + 1] = knots[j];
+    }
+    let mut i = b + p - 1;
+    let mut k = b + p + r;
+    for j in (0..=r).rev() {
+        while x[j] <= knots[i] && i > a {
+            qw[k - p - 1] = pw[i - p - 1];
+            ub[k] = knots[i];
+            k -= 1;
+            i -= 1;
+        }
+        qw[k - p - 1] = qw[k - p];
+        for l in 1..=p {
+            let ind = k - p + l;
+            let alfa = ub[k + l] - x[j];
+            if alfa.abs() == 0.0 {
+                qw[ind - 1] = qw[ind];
+            } else {
+                let alfa = alfa / (ub[k + l] - knots[i + l - p]);
+                qw[ind - 1] = qw[ind - 1] * alfa + qw[ind] * (1.0 - alfa);
+            }
+        }
+        ub[k] = x[j];
+        k -= 1;
+    }
+    (ub, qw)
+}
+
+/// A5.8 on several rows at once: removes the knot `knots[r]` (last copy of its value,
+/// multiplicity `s`) up to `num` times while every row stays within `tol` (homogeneous
+/// distance). Returns the number of removals `t` and edits `knots` and `rows` in place.
+pub(crate) fn remove_knot(
+    p: usize,
+    knots: &mut Vec<f64>,
+    rows: &mut [Vec<Hom>],
+    r: usize,
+    s: usize,
+    num: usize,
+    tol: f64,
+) -> usize {
+    let n = rows[0].len() - 1;
+    let m = n + p + 1;
+    let u = knots[r];
+    let ord = p + 1;
+    let fout = (2 * r - s - p) / 2;
+    let mut first = r - p;
+    let mut last = r - s;
+    let mut t = 0;
+    let mut temps: Vec<Vec<Hom>> = vec![vec![Hom::zeros(); 2 * p + 1]; rows.len()];
+    while t < num {
+        let off = first - 1;
+        let mut ok = true;
+        for (pw, temp) in rows.iter().zip(temps.iter_mut()) {
+            temp[0] = pw[off];
+            temp[last + 1 - off] = pw[last + 1];
+            let (mut i, mut j) = (first, last);
+            let (mut ii, mut jj) = (1usize, last - off);
+            while j - i > t {
+                let alfi = (u - knots[i]) / (knots[i + ord + t] - knots[i]);
+                let alfj = (u - knots[j - t]) / (knots[j + ord] - knots[j - t]);
+                temp[ii] = (pw[i] - temp[ii - 1] * (1.0 - alfi)) / alfi;
+                temp[jj] = (pw[j] - temp[jj + 1] * alfj) / (1.0 - alfj);
+                i += 1;
+                ii += 1;
+                j -= 1;
+                jj -= 1;
+            }
+            let dist = if j < i + t {
+                (temp[ii - 1] - temp[jj + 1]).norm()
+            } else {
+                let alfi = (u - knots[i]) / (knots[i + ord + t] - knots[i]);
+                (pw[i] - (temp[ii + t + 1] * alfi + temp[ii - 1] * (1.0 - alfi))).norm()
+            };
+            if dist.is_nan() || dist > tol {
+                ok = false;
+                break;
+            }
+        }
+        if !ok {
+            break;
+        }
+        for (pw, temp) in rows.iter_mut().zip(temps.iter()) {
+            let (mut i, mut j) = (first, last);
+            while j - i > t {
+                pw[i] = temp[i - off];
+                pw[j] = temp[j - off];
+                i += 1;
+                j -= 1;
+            }
+        }
+        first -= 1;
+        last += 1;
+        t += 1;
+    }
+    if t == 0 {
+        return 0;
+    }
+    for k in r + 1..=m {
+        knots[k - t] = knots[k];
+    }
+    knots.truncate(m + 1 - t);
+    for pw in rows.iter_mut() {
+        let mut j = fout;
+        let mut i = j;
+        for k in 1..t {
+            if k % 2 == 1 {
+                i += 1;
+            } else {
+                j -= 1;
+            }
+        }
+        for k in i + 1..=n {
+            pw[j] = pw[k];
+            j += 1;
+        }
+        pw.truncate(n + 1 - t);
+    }
+    t
+}
+
+fn binomial(n: usize, k: usize) -> f64 {
+    if k > n {
+        return 0.0;
+    }
+    let k = k.min(n - k);
+    let mut b = 1.0;
+    for i in 0..k {
+        b = b * (n - i) as f64 / (i + 1) as f64;
+    }
+    b
+}
+
+/// A5.9: raises the degree of a clamped spline from `p` to `p + t`.
+pub(crate) fn elevate_degree(p: usize, knots: &[f64], pw: &[Hom], t: usize) -> (Vec<f64>, Vec<Hom>) {
+    if t == 0 {
+        return (knots.to_vec(), pw.to_vec());
+    }
+    let n = pw.len() - 1;
+    let m = n + p + 1;
+    let ph = p + t;
+    let ph2 = ph / 2;
+    // Bézier degree-elevation coefficients.
+    let mut bezalfs = vec![vec![0.0; p + 1]; ph + 1];
+    bezalfs[0][0] = 1.0;
+    bezalfs[ph][p] = 1.0;
+    for i in 1..=ph2 {
+        let inv = 1.0 / binomial(ph, i);
+        let mpi = p.min(i);
+        for j in i.saturating_sub(t)..=mpi {
+            bezalfs[i][j] = inv * binomial(p, j) * binomial(t, i - j);
+        }
+    }
+    for i in ph2 + 1..ph {
+        let mpi = p.min(i);
+        for j in i.saturating_sub(t)..=mpi {
+            bezalfs[i][j] = bezalfs[ph - i][p - j];
+        }
+    }
+    // Upper bound on the output size: every distinct interior knot gains t copies.
+    let distinct = {
+        let mut d = 1;
+        for w in knots.windows(2) {
+            if w[1] != w[0] {
+                d += 1;
+            }
+        }
+        d
+    };
+    let cap = pw.len() + distinct * t + t + 1;
+    let mut qw = vec![Hom::zeros(); cap];
+    let mut uh = vec![0.0; cap + ph + 1];
+    let mut bpts = vec![Hom::zeros(); p + 1];
+    let mut ebpts = vec![Hom::zeros(); ph + 1];
+    let mut next_bpts = vec![Hom::zeros(); p.saturating_sub(1).max(1)];
+    let mut alfs = vec![0.0; p.saturating_sub(1).max(1)];
+
+    let mut mh = ph;
+    let mut kind = ph + 1;
+    let mut r: isize = -1;
+    let mut a = p;
+    let mut b = p + 1;
+    let mut cind = 1;
+    let mut ua = knots[0];
+    qw[0] = pw[0];
+    for x in uh.iter_mut().take(ph + 1) {
+        *x = ua;
+    }
+    bpts.copy_from_slice(&pw[..=p]);
+    while b < m {
+        let i0 = b;
+        while b < m && knots[b] == knots[b + 1] {
+            b += 1;
+        }
+        let mul = b - i0 + 1;
+        mh += mul + t;
+        let ub = knots[b];
+        let oldr = r;
+        r = p as isize - mul as isize;
+        let lbz = if oldr > 0 { ((oldr + 2) / 2) as usize } else { 1 };
+        let rbz = if r > 0 { ph - ((r + 1) / 2) as usize } else { ph };
+        if r > 0 {
+            let numer = ub - ua;
+            let mut k = p;
+            while k > mul {
+                alfs[k - mul - 1] = numer / (knots[a + k] - ua);
+                k -= 1;
+            }
+            for j in 1..=r as usize {
+                let save = r as usize - j;
+                let s = mul + j;
+                let mut k = p;
+                while k >= s {
+                    bpts[k] = bpts[k] * alfs[k - s] + bpts[k - 1] * (1.0 - alfs[k - s]);
+                    k -= 1;
+                }
+                next_bpts[save] = bpts[p];
+            }
+        }
+        for i in lbz..=ph {
+            let mut e = Hom::zeros();
+            let mpi = p.min(i);
+            for j in i.saturating_sub(t)..=mpi {
+                e += bpts[j] * bezalfs[i][j];
+            }
+            ebpts[i] = e;
+        }
+        if oldr > 1 {
+            let mut first = kind - 2;
+            let mut last = kind;
+            let den = ub - ua;
+            let bet = (ub - uh[kind - 1]) / den;
+            for tr in 1..oldr as usize {
+                let mut i = first;
+                let mut j = last;
+                let mut kj = j as isize - kind as isize + 1;
+                while j - i > tr {
+                    if i < cind {
+                        let alf = (ub - uh[i]) / (ua - uh[i]);
+                        qw[i] = qw[i] * alf + qw[i - 1] * (1.0 - alf);
+                    }
+                    if j >= lbz {
+                        let kju = kj as usize;
+                        if (j as isize - tr as isize) <= kind as isize - ph as isize + oldr {
+                            let gam = (ub - uh[j - tr]) / den;
+                            ebpts[kju] = ebpts[kju] * gam + ebpts[kju + 1] * (1.0 - gam);
+                        } else {
+                            ebpts[kju] = ebpts[kju] * bet + ebpts[kju + 1] * (1.0 - bet);
+                        }
+                    }
+                    i += 1;
+                    j -= 1;
+                    kj -= 1;
+                }
+                first -= 1;
+                last += 1;
+            }
+        }
+        if a != p {
+            for _ in 0..(ph as isize - oldr) as usize {
+                uh[kind] = ua;
+                kind += 1;
+            }
+        }
+        for j in lbz..=rbz {
+            qw[cind] = ebpts[j];
+            cind += 1;
+        }
+        if b < m {
+            for j in 0..r.max(0) as usize {
+                bpts[j] = next_bpts[j];
+            }
+            for j in r.max(0) as usize..=p {
+                bpts[j] = pw[b - p + j];
+            }
+            a = b;
+            b += 1;
+            ua = ub;
+        } else {
+            for i in 0..=ph {
+                uh[kind + i] = ub;
+            }
+        }
+    }
+    let nh = mh - ph - 1;
+    qw.truncate(nh + 1);
+    uh.truncate(nh + ph + 2);
+    (uh, qw)
+}

@@ -1,0 +1,505 @@
+//! NURBS curves.
+
+use std::ops::RangeInclusive;
+
+use nalgebra::{Point3, Vector3};
+
+use crate::algo::{self, Hom};
+use crate::basis::{basis_funs_into, ders_basis_funs_into};
+use crate::{Curve, Error, KnotVector, Result, MAX_DEGREE};
+
+/// A B-spline or NURBS curve `C(t) = Σ Nᵢ,ₚ(t) wᵢ Pᵢ / Σ Nᵢ,ₚ(t) wᵢ`.
+///
+/// Non-rational curves (`weights() == None`) take a fast path that never divides.
+/// The knot vector may be clamped or not; the domain is `[u_p, u_{m−p}]`.
+///
+/// # Examples
+///
+/// A quarter circle of radius 1 as a rational quadratic:
+///
+/// ```
+/// use cadmorph_nurbs::{Curve, KnotVector, NurbsCurve};
+/// use nalgebra::Point3;
+/// let w = std::f64::consts::FRAC_1_SQRT_2;
+/// let arc = NurbsCurve::try_new(
+///     2,
+///     KnotVector::try_new(vec![0., 0., 0., 1., 1., 1.]).unwrap(),
+///     vec![Point3::new(1., 0., 0.), Point3::new(1., 1., 0.), Point3::new(0., 1., 0.)],
+///     Some(vec![1.0, w, 1.0]),
+/// )
+/// .unwrap();
+/// for i in 0..=10 {
+///     let p = arc.eval(i as f64 / 10.0);
+///     assert!((p.coords.norm() - 1.0).abs() < 1e-15);
+/// }
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct NurbsCurve {
+    degree: usize,
+    knots: KnotVector,
+    control_points: Vec<Point3<f64>>,
+    weights: Option<Vec<f64>>,
+}
+
+pub(crate) fn check_points(points: &[Point3<f64>]) -> Result<()> {
+    for (index, p) in points.iter().enumerate() {
+        if let Some(&value) = p.coords.iter().find(|c| !c.is_finite()) {
+            return Err(Error::NotFinite { what: "control point", index, value });
+        }
+    }
+    Ok(())
+}
+
+pub(crate) fn check_weights(weights: &[f64], n: usize) -> Result<()> {
+    if weights.len() != n {
+        return Err(Error::WeightCount { weights: weights.len(), control_points: n });
+    }
+    for (index, &value) in weights.iter().enumerate() {
+        if !value.is_finite() {
+            return Err(Error::NotFinite { what: "weight", index, value });
+        }
+        if value <= 0.0 {
+            return Err(Error::NonPositiveWeight { index, value });
+        }
+    }
+    Ok(())
+}
+
+pub(crate) fn to_hom(points: &[Point3<f64>], weights: Option<&[f64]>) -> Vec<Hom> {
+    match weights {
+        Some(w) => points.iter().zip(w).map(|(p, &w)| Hom::new(p.x * w, p.y * w, p.z * w, w)).collect(),
+        None => points.iter().map(|p| Hom::new(p.x, p.y, p.z, 1.0)).collect(),
+    }
+}
+
+pub(crate) fn from_hom(pw: &[Hom], rational: bool) -> (Vec<Point3<f64>>, Option<Vec<f64>>) {
+    let points = pw.iter().map(|h| Point3::new(h.x / h.w, h.y / h.w, h.z / h.w)).collect();
+    let weights = rational.then(|| pw.iter().map(|h| h.w).collect());
+    (points, weights)
+}
+
+/// Binomial coefficient as f64 (small arguments).
+pub(crate) fn binomial(n: usize, k: usize) -> f64 {
+    if k > n {
+        return 0.0;
+    }
+    let k = k.min(n - k);
+    (0..k).fold(1.0, |b, i| b * (n - i) as f64 / (i + 1) as f64)
+}
+
+impl NurbsCurve {
+    /// Builds a curve of degree `degree`, checking everything.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Degree`], [`Error::TooFewControlPoints`], [`Error::KnotCount`],
+    /// [`Error::Multiplicity`], [`Error::NotFinite`], [`Error::WeightCount`],
+    /// [`Error::NonPositiveWeight`].
+    pub fn try_new(
+        degree: usize,
+        knots: KnotVector,
+        control_points: Vec<Point3<f64>>,
+        weights: Option<Vec<f64>>,
+    ) -> Result<Self> {
+        knots.check_for(degree, control_points.len(), "")?;
+        check_points(&control_points)?;
+        if let Some(w) = &weights {
+            check_weights(w, control_points.len())?;
+        }
+        Ok(Self { degree, knots, control_points, weights })
+    }
+
+    /// Like [`try_new`](Self::try_new).
+    ///
+    /// # Panics
+    ///
+    /// If the data is invalid.
+    pub fn new(degree: usize, knots: KnotVector, control_points: Vec<Point3<f64>>, weights: Option<Vec<f64>>) -> Self {
+        Self::try_new(degree, knots, control_points, weights).expect("invalid NURBS curve")
+    }
+
+    /// A periodic curve in the OCCT/IGES form: one period of poles, distinct knots of
+    /// one period and their multiplicities (first and last equal). The result is the
+    /// equivalent unclamped curve whose first `degree` poles repeat at the end.
+    ///
+    /// # Errors
+    ///
+    /// Those of [`KnotVector::periodic`] and [`try_new`](Self::try_new).
+    pub fn try_periodic(
+        degree: usize,
+        values: &[f64],
+        mults: &[usize],
+        poles: Vec<Point3<f64>>,
+        weights: Option<Vec<f64>>,
+    ) -> Result<Self> {
+        let knots = KnotVector::periodic(degree, values, mults)?;
+        let n_period = knots.len() - 2 * degree - 1;
+        if poles.len() != n_period {
+            return Err(Error::Periodic { reason: "pole count differs from the sum of one period of multiplicities" });
+        }
+        let mut pts = poles;
+        let wrap: Vec<_> = pts[..degree.min(pts.len())].to_vec();
+        if wrap.len() < degree {
+            return Err(Error::Periodic { reason: "fewer poles than the degree" });
+        }
+        pts.extend(wrap);
+        let weights = weights.map(|mut w| {
+            let ww: Vec<f64> = w.iter().take(degree).copied().collect();
+            w.extend(ww);
+            w
+        });
+        Self::try_new(degree, knots, pts, weights)
+    }
+
+    /// The degree `p`.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
+    /// The knot vector.
+    pub fn knots(&self) -> &KnotVector {
+        &self.knots
+    }
+
+    /// The control points (Cartesian, not multiplied by the weights).
+    pub fn control_points(&self) -> &[Point3<f64>] {
+        &self.control_points
+    }
+
+    /// Mutable control points: a deformation moves these and keeps the weights.
+    pub fn control_points_mut(&mut self) -> &mut [Point3<f64>] {
+        &mut self.control_points
+    }
+
+    /// The weights, `None` for a non-rational curve.
+    pub fn weights(&self) -> Option<&[f64]> {
+        self.weights.as_deref()
+    }
+
+    /// Whether the curve has weights.
+    pub fn is_rational(&self) -> bool {
+        self.weights.is_some()
+    }
+
+    /// Homogeneous control points `(w·x, w·y, w·z, w)`.
+    pub(crate) fn homogeneous(&self) -> Vec<Hom> {
+        to_hom(&self.control_points, self.weights.as_deref())
+    }
+
+    pub(crate) fn from_parts(degree: usize, knots: Vec<f64>, pw: &[Hom], rational: bool) -> Self {
+        let (control_points, weights) = from_hom(pw, rational);
+        Self { degree, knots: KnotVector::new_unchecked(knots), control_points, weights }
+    }
+
+    fn check_inside(&self, u: f64) -> Result<()> {
+        let d = self.domain();
+        if !(u >= *d.start() && u <= *d.end()) {
+            return Err(Error::OutsideDomain { value: u, start: *d.start(), end: *d.end() });
+        }
+        Ok(())
+    }
+
+    /// Inserts the knot `u` `times` times (Piegl & Tiller A5.1); the geometry does not
+    /// change. The multiplicity is capped at the degree: returns how many copies were
+    /// actually inserted.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::OutsideDomain`] if `u` is outside the domain.
+    pub fn insert_knot(&mut self, u: f64, times: usize) -> Result<usize> {
+        self.check_inside(u)?;
+        let (k, s) = algo::insertion_span(self.knots.as_slice(), u);
+        let r = times.min(self.degree.saturating_sub(s));
+        if r == 0 {
+            return Ok(0);
+        }
+        let (knots, pw) = algo::insert_knot(self.degree, self.knots.as_slice(), &self.homogeneous(), u, k, s, r);
+        *self = Self::from_parts(self.degree, knots, &pw, self.is_rational());
+        Ok(r)
+    }
+
+    /// Inserts all knots of `x` at once (Piegl & Tiller A5.4). `x` need not be sorted;
+    /// every value must lie inside the domain and no knot may end up with a
+    /// multiplicity above the degree.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::OutsideDomain`], [`Error::NotFinite`], [`Error::Multiplicity`].
+    pub fn refine(&mut self, x: &[f64]) -> Result<()> {
+        let x = prepare_refinement(&self.knots, self.degree, x)?;
+        let (knots, pw) = algo::refine(self.degree, self.knots.as_slice(), &self.homogeneous(), &x);
+        *self = Self::from_parts(self.degree, knots, &pw, self.is_rational());
+        Ok(())
+    }
+
+    /// Removes the knot `u` up to `times` times while the curve moves by at most `tol`
+    /// (model units) (Piegl & Tiller A5.8). Returns how many copies were removed.
+    ///
+    /// # Tolerance
+    ///
+    /// For rational curves the homogeneous test is scaled as Piegl & Tiller (5.30)
+    /// advise, `tol·w_min / (1 + |P|_max)`, which bounds the Cartesian deviation by `tol`.
+    pub fn remove_knot(&mut self, u: f64, times: usize, tol: f64) -> usize {
+        let ks = self.knots.as_slice();
+        let r = match ks.iter().rposition(|&k| k == u) {
+            Some(r) => r,
+            None => return 0,
+        };
+        let s = ks[..=r].iter().rev().take_while(|&&k| k == u).count();
+        let p = self.degree;
+        // Only interior knots can be removed.
+        if r <= p || r + p + 1 >= ks.len() || r < p + s - 1 || ks[r - s + 1] <= ks[p] {
+            return 0;
+        }
+        let tol = homogeneous_tol(tol, &self.control_points, self.weights.as_deref());
+        let mut knots = ks.to_vec();
+        let mut rows = vec![self.homogeneous()];
+        let t = algo::remove_knot(p, &mut knots, &mut rows, r, s, times.min(s), tol);
+        if t > 0 {
+            *self = Self::from_parts(p, knots, &rows[0], self.is_rational());
+        }
+        t
+    }
+
+    /// Raises the degree by `t` without changing the geometry (Piegl & Tiller A5.9).
+    /// An unclamped curve is clamped first.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Degree`] if the new degree exceeds [`MAX_DEGREE`].
+    pub fn elevate_degree(&mut self, t: usize) -> Result<()> {
+        if self.degree + t > MAX_DEGREE {
+            return Err(Error::Degree { degree: self.degree + t });
+        }
+        let c = self.clamped();
+        let (knots, pw) = algo::elevate_degree(c.degree, c.knots.as_slice(), &c.homogeneous(), t);
+        *self = Self::from_parts(c.degree + t, knots, &pw, c.is_rational());
+        Ok(())
+    }
+
+    /// The same curve with a clamped knot vector on the same domain (knots inserted at
+    /// the domain ends, the outer control points dropped). A clamped curve comes back
+    /// unchanged.
+    pub fn clamped(&self) -> Self {
+        let p = self.degree;
+        if self.knots.is_clamped(p) {
+            return self.clone();
+        }
+        let (knots, pw) = clamp_hom(p, self.knots.as_slice(), &self.homogeneous());
+        Self::from_parts(p, knots, &pw, self.is_rational())
+    }
+
+    /// The Bézier segments of the curve, in order (Piegl & Tiller A5.6 by knot
+    /// refinement to full interior multiplicity). Each segment has knots
+    /// `[a; p+1] ∪ [b; p+1]` over its own interval.
+    pub fn bezier_segments(&self) -> Vec<NurbsCurve> {
+        let c = self.clamped();
+        let p = c.degree;
+        let (values, mults) = c.knots.distinct();
+        let mut x = Vec::new();
+        for (&v, &m) in values[1..values.len() - 1].iter().zip(&mults[1..mults.len() - 1]) {
+            x.extend(std::iter::repeat_n(v, p.saturating_sub(m)));
+        }
+        let (_, pw) = algo::refine(p, c.knots.as_slice(), &c.homogeneous(), &x);
+        values
+            .windows(2)
+            .enumerate()
+            .map(|(i, w)| {
+                let mut knots = vec![w[0]; p + 1];
+                knots.extend(std::iter::repeat_n(w[1], p + 1));
+                Self::from_parts(p, knots, &pw[i * p..=i * p + p], c.is_rational())
+            })
+            .collect()
+    }
+
+    /// Splits the curve at `t` into the parts on `[a, t]` and `[t, b]`.
+    ///
+    /// `c.split(t).0.eval(u)` is the same point as `c.eval(u)` for `u ≤ t`, and
+    /// `.1.eval(u)` for `u ≥ t`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::OutsideDomain`] unless `t` is strictly inside the domain.
+    pub fn split(&self, t: f64) -> Result<(Self, Self)> {
+        let d = self.domain();
+        if !(t > *d.start() && t < *d.end()) {
+            return Err(Error::OutsideDomain { value: t, start: *d.start(), end: *d.end() });
+        }
+        let mut c = self.clamped();
+        let p = c.degree;
+        c.insert_knot(t, p)?;
+        let ks = c.knots.as_slice();
+        let a = ks.partition_point(|&k| k < t);
+        let s = ks.iter().filter(|&&k| k == t).count();
+        let hom = c.homogeneous();
+        let mut left_knots = ks[..a].to_vec();
+        left_knots.extend(std::iter::repeat_n(t, p + 1));
+        let mut right_knots = vec![t; p + 1];
+        right_knots.extend_from_slice(&ks[a + s..]);
+        let n_left = left_knots.len() - p - 1;
+        let n_right = right_knots.len() - p - 1;
+        let left = Self::from_parts(p, left_knots, &hom[..n_left], c.is_rational());
+        let right = Self::from_parts(p, right_knots, &hom[hom.len() - n_right..], c.is_rational());
+        Ok((left, right))
+    }
+
+    /// The same curve traversed the other way: `r.eval(a + b − t) == c.eval(t)`.
+    pub fn reversed(&self) -> Self {
+        Self {
+            degree: self.degree,
+            knots: self.knots.reversed(),
+            control_points: self.control_points.iter().rev().copied().collect(),
+            weights: self.weights.as_ref().map(|w| w.iter().rev().copied().collect()),
+        }
+    }
+
+    /// Evaluation with stack buffers for degrees up to 15.
+    fn eval_impl(&self, u: f64) -> Point3<f64> {
+        let p = self.degree;
+        let ks = self.knots.as_slice();
+        let span = crate::knots::find_span(ks, p, u);
+        let mut n = [0.0; 16];
+        let mut left = [0.0; 16];
+        let mut right = [0.0; 16];
+        let mut nv;
+        let mut lv;
+        let mut rv;
+        let (n, left, right): (&mut [f64], &mut [f64], &mut [f64]) = if p < 16 {
+            (&mut n, &mut left, &mut right)
+        } else {
+            nv = vec![0.0; p + 1];
+            lv = vec![0.0; p + 1];
+            rv = vec![0.0; p + 1];
+            (&mut nv, &mut lv, &mut rv)
+        };
+        basis_funs_into(ks, span, u, p, n, left, right);
+        let first = span - p;
+        match &self.weights {
+            None => {
+                let mut acc = Vector3::zeros();
+                for j in 0..=p {
+                    acc += self.control_points[first + j].coords * n[j];
+                }
+                Point3::from(acc)
+            }
+            Some(w) => {
+                let mut acc = Vector3::zeros();
+                let mut wsum = 0.0;
+                for j in 0..=p {
+                    let nw = n[j] * w[first + j];
+                    acc += self.control_points[first + j].coords * nw;
+                    wsum += nw;
+                }
+                Point3::from(acc / wsum)
+            }
+        }
+    }
+}
+
+/// Sorts the refinement knots, checks they are inside the domain and that no
+/// multiplicity exceeds the degree.
+pub(crate) fn prepare_refinement(knots: &KnotVector, p: usize, x: &[f64]) -> Result<Vec<f64>> {
+    let d = knots.domain(p);
+    for (index, &value) in x.iter().enumerate() {
+        if !value.is_finite() {
+            return Err(Error::NotFinite { what: "knot", index, value });
+        }
+        if !(value > *d.start() && value < *d.end()) {
+            return Err(Error::OutsideDomain { value, start: *d.start(), end: *d.end() });
+        }
+    }
+    let mut x = x.to_vec();
+    x.sort_by(f64::total_cmp);
+    let mut i = 0;
+    while i < x.len() {
+        let v = x[i];
+        let added = x[i..].iter().take_while(|&&k| k == v).count();
+        let multiplicity = added + knots.as_slice().iter().filter(|&&k| k == v).count();
+        if multiplicity > p {
+            return Err(Error::Multiplicity { value: v, multiplicity, max: p });
+        }
+        i += added;
+    }
+    Ok(x)
+}
+
+/// Piegl & Tiller (5.30): a homogeneous tolerance that bounds the Cartesian error by `tol`.
+pub(crate) fn homogeneous_tol(tol: f64, points: &[Point3<f64>], weights: Option<&[f64]>) -> f64 {
+    match weights {
+        None => tol,
+        Some(w) => {
+            let wmin = w.iter().copied().fold(f64::INFINITY, f64::min);
+            let pmax = points.iter().map(|p| p.coords.norm()).fold(0.0, f64::max);
+            tol * wmin / (1.0 + pmax)
+        }
+    }
+}
+
+impl Curve for NurbsCurve {
+    fn domain(&self) -> RangeInclusive<f64> {
+        self.knots.domain(self.degree)
+    }
+
+    fn eval(&self, t: f64) -> Point3<f64> {
+        self.eval_impl(t)
+    }
+
+    /// Piegl & Tiller A3.2 on the homogeneous points, then A4.2 for the rational form.
+    fn derivs(&self, t: f64, n: usize) -> Vec<Vector3<f64>> {
+        let p = self.degree;
+        let ks = self.knots.as_slice();
+        let span = crate::knots::find_span(ks, p, t);
+        let mut nders = vec![vec![0.0; p + 1]; n + 1];
+        ders_basis_funs_into(ks, span, t, p, n, &mut nders);
+        let first = span - p;
+        let mut hders = vec![Hom::zeros(); n + 1];
+        let w = self.weights.as_deref();
+        for (k, hd) in hders.iter_mut().enumerate() {
+            for j in 0..=p {
+                let pt = self.control_points[first + j];
+                let wj = w.map_or(1.0, |w| w[first + j]);
+                *hd += Hom::new(pt.x * wj, pt.y * wj, pt.z * wj, wj) * nders[k][j];
+            }
+        }
+        rational_curve_derivs(&hders)
+    }
+}
+
+/// A4.2: Cartesian derivatives from homogeneous ones.
+pub(crate) fn rational_curve_derivs(hders: &[Hom]) -> Vec<Vector3<f64>> {
+    let n = hders.len() - 1;
+    let w0 = hders[0].w;
+    let mut ck: Vec<Vector3<f64>> = Vec::with_capacity(n + 1);
+    for k in 0..=n {
+        let mut v = hders[k].xyz();
+        for i in 1..=k {
+            v -= ck[k - i] * (binomial(k, i) * hders[i].w);
+        }
+        ck.push(v / w0);
+    }
+    ck
+}
+
+/// Clamps a homogeneous spline to its domain `[u_p, u_{m-p}]`: raises both ends to
+/// multiplicity `p` by insertion, then drops the knots and control points outside.
+pub(crate) fn clamp_hom(p: usize, knots: &[f64], pw: &[Hom]) -> (Vec<f64>, Vec<Hom>) {
+    let (a, b) = (knots[p], knots[knots.len() - 1 - p]);
+    let mut knots = knots.to_vec();
+    let mut pw = pw.to_vec();
+    for end in [a, b] {
+        let (k, s) = algo::insertion_span(&knots, end);
+        if s < p {
+            let (k2, q2) = algo::insert_knot(p, &knots, &pw, end, k, s, p - s);
+            knots = k2;
+            pw = q2;
+        }
+    }
+    // Last copy of a: the curve starts at control point k_a - p.
+    let k_a = knots.iter().rposition(|&k| k == a).expect("a is a knot");
+    let f_b = knots.iter().position(|&k| k == b).expect("b is a knot");
+    let mut out = vec![a];
+    out.extend_from_slice(&knots[k_a - p + 1..f_b + p]);
+    out.push(b);
+    let pts = pw[k_a - p..f_b].to_vec();
+    (out, pts)
+}

@@ -1,0 +1,755 @@
+//! NURBS surfaces.
+
+use std::ops::{Index, RangeInclusive};
+
+use nalgebra::{Point3, Unit, Vector3};
+
+use crate::algo::{self, Hom};
+use crate::basis::{basis_funs_into, ders_basis_funs_into};
+use crate::curve::{
+    binomial, check_points, check_weights, clamp_hom, from_hom, homogeneous_tol, prepare_refinement, to_hom,
+};
+use crate::{Error, KnotVector, NurbsCurve, Result, Surface, MAX_DEGREE};
+
+/// A B-spline or NURBS surface
+///
+/// ```text
+/// S(u,v) = Σᵢ Σⱼ Nᵢ,ₚ(u) Nⱼ,q(v) wᵢⱼ Pᵢⱼ / Σᵢ Σⱼ Nᵢ,ₚ(u) Nⱼ,q(v) wᵢⱼ
+/// ```
+///
+/// The control net is stored row by row: `Pᵢⱼ` is `control_points()[i * n_v + j]`,
+/// `i` counting along u (the layout of OCCT's `Poles(i, j)` and of IGES entity 128).
+///
+/// # Examples
+///
+/// ```
+/// use cadmorph_nurbs::{NurbsSurface, Surface};
+/// let plane = NurbsSurface::bilinear([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]]);
+/// assert_eq!(plane.eval(0.5, 0.5).z, 0.0);
+/// assert_eq!(plane.normal(0.3, 0.7).unwrap().z, 1.0);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct NurbsSurface {
+    u_degree: usize,
+    v_degree: usize,
+    u_knots: KnotVector,
+    v_knots: KnotVector,
+    n_u: usize,
+    n_v: usize,
+    control_points: Vec<Point3<f64>>,
+    weights: Option<Vec<f64>>,
+}
+
+/// All partial derivatives of a surface up to a total order `n`:
+/// `d[(k, l)] = ∂^(k+l) S / ∂u^k ∂v^l`, with `d[(0, 0)]` the point (as a vector).
+/// Entries with `k + l > n` are zero.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceDerivs {
+    order: usize,
+    d: Vec<Vector3<f64>>,
+}
+
+impl SurfaceDerivs {
+    /// The highest total order held.
+    pub fn order(&self) -> usize {
+        self.order
+    }
+
+    /// The point `S(u, v)`.
+    pub fn point(&self) -> Point3<f64> {
+        Point3::from(self.d[0])
+    }
+}
+
+impl Index<(usize, usize)> for SurfaceDerivs {
+    type Output = Vector3<f64>;
+    fn index(&self, (k, l): (usize, usize)) -> &Vector3<f64> {
+        &self.d[k * (self.order + 1) + l]
+    }
+}
+
+/// Which side of the parameter rectangle an iso-boundary is on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Side {
+    /// `u = u₀` (a curve in v).
+    UMin,
+    /// `u = u₁` (a curve in v).
+    UMax,
+    /// `v = v₀` (a curve in u).
+    VMin,
+    /// `v = v₁` (a curve in u).
+    VMax,
+}
+
+impl Side {
+    /// All four sides in the order `UMin, UMax, VMin, VMax`.
+    pub const ALL: [Side; 4] = [Side::UMin, Side::UMax, Side::VMin, Side::VMax];
+}
+
+/// Point and first partials at one parameter pair.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfacePointD1 {
+    /// `S(u, v)`.
+    pub point: Point3<f64>,
+    /// `∂S/∂u`.
+    pub du: Vector3<f64>,
+    /// `∂S/∂v`.
+    pub dv: Vector3<f64>,
+}
+
+impl NurbsSurface {
+    /// Builds a surface, checking everything. `control_points` is the `n_u × n_v` net
+    /// row by row (`i * n_v + j`), `weights` the same layout.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::NetSize`], and those of [`NurbsCurve::try_new`] per direction.
+    pub fn try_new(
+        (u_degree, v_degree): (usize, usize),
+        (u_knots, v_knots): (KnotVector, KnotVector),
+        (n_u, n_v): (usize, usize),
+        control_points: Vec<Point3<f64>>,
+        weights: Option<Vec<f64>>,
+    ) -> Result<Self> {
+        if n_u.checked_mul(n_v) != Some(control_points.len()) {
+            return Err(Error::NetSize { n_u, n_v, found: control_points.len() });
+        }
+        u_knots.check_for(u_degree, n_u, "u: ")?;
+        v_knots.check_for(v_degree, n_v, "v: ")?;
+        check_points(&control_points)?;
+        if let Some(w) = &weights {
+            check_weights(w, control_points.len())?;
+        }
+        Ok(Self { u_degree, v_degree, u_knots, v_knots, n_u, n_v, control_points, weights })
+    }
+
+    /// Like [`try_new`](Self::try_new).
+    ///
+    /// # Panics
+    ///
+    /// If the data is invalid.
+    pub fn new(
+        degrees: (usize, usize),
+        knots: (KnotVector, KnotVector),
+        size: (usize, usize),
+        control_points: Vec<Point3<f64>>,
+        weights: Option<Vec<f64>>,
+    ) -> Self {
+        Self::try_new(degrees, knots, size, control_points, weights).expect("invalid NURBS surface")
+    }
+
+    /// The bilinear patch through four corners `P00, P10, P01, P11` (`Pᵢⱼ` at `u = i`,
+    /// `v = j`) on `[0, 1]²`.
+    pub fn bilinear(corners: [[f64; 3]; 4]) -> Self {
+        let [p00, p10, p01, p11] = corners.map(Point3::from);
+        let k = || KnotVector::new_unchecked(vec![0.0, 0.0, 1.0, 1.0]);
+        Self::new((1, 1), (k(), k()), (2, 2), vec![p00, p01, p10, p11], None)
+    }
+
+    pub(crate) fn from_parts(
+        degrees: (usize, usize),
+        knots: (Vec<f64>, Vec<f64>),
+        size: (usize, usize),
+        pw: &[Hom],
+        rational: bool,
+    ) -> Self {
+        let (control_points, weights) = from_hom(pw, rational);
+        Self {
+            u_degree: degrees.0,
+            v_degree: degrees.1,
+            u_knots: KnotVector::new_unchecked(knots.0),
+            v_knots: KnotVector::new_unchecked(knots.1),
+            n_u: size.0,
+            n_v: size.1,
+            control_points,
+            weights,
+        }
+    }
+
+    /// Degree in u.
+    pub fn u_degree(&self) -> usize {
+        self.u_degree
+    }
+    /// Degree in v.
+    pub fn v_degree(&self) -> usize {
+        self.v_degree
+    }
+    /// Knot vector in u.
+    pub fn u_knots(&self) -> &KnotVector {
+        &self.u_knots
+    }
+    /// Knot vector in v.
+    pub fn v_knots(&self) -> &KnotVector {
+        &self.v_knots
+    }
+    /// Number of control points along u (rows of the net).
+    pub fn n_u(&self) -> usize {
+        self.n_u
+    }
+    /// Number of control points along v (columns of the net).
+    pub fn n_v(&self) -> usize {
+        self.n_v
+    }
+    /// The control net row by row (`i * n_v + j`), Cartesian.
+    pub fn control_points(&self) -> &[Point3<f64>] {
+        &self.control_points
+    }
+    /// Mutable control net: a deformation moves these and keeps the weights.
+    pub fn control_points_mut(&mut self) -> &mut [Point3<f64>] {
+        &mut self.control_points
+    }
+    /// The control point `Pᵢⱼ`.
+    pub fn control_point(&self, i: usize, j: usize) -> Point3<f64> {
+        self.control_points[i * self.n_v + j]
+    }
+    /// The weights (same layout), `None` when not rational.
+    pub fn weights(&self) -> Option<&[f64]> {
+        self.weights.as_deref()
+    }
+    /// Whether the surface has weights.
+    pub fn is_rational(&self) -> bool {
+        self.weights.is_some()
+    }
+
+    pub(crate) fn homogeneous(&self) -> Vec<Hom> {
+        to_hom(&self.control_points, self.weights.as_deref())
+    }
+
+    /// Columns of the homogeneous net: `cols[j][i] = Pwᵢⱼ` (curves in u).
+    fn u_rows(&self) -> Vec<Vec<Hom>> {
+        let pw = self.homogeneous();
+        (0..self.n_v).map(|j| (0..self.n_u).map(|i| pw[i * self.n_v + j]).collect()).collect()
+    }
+
+    /// Rows of the homogeneous net: `rows[i][j] = Pwᵢⱼ` (curves in v).
+    fn v_rows(&self) -> Vec<Vec<Hom>> {
+        let pw = self.homogeneous();
+        pw.chunks(self.n_v).map(<[Hom]>::to_vec).collect()
+    }
+
+    fn with_u_rows(&self, u_degree: usize, u_knots: Vec<f64>, cols: &[Vec<Hom>]) -> Self {
+        let n_u = cols[0].len();
+        let mut pw = vec![Hom::zeros(); n_u * self.n_v];
+        for (j, col) in cols.iter().enumerate() {
+            for (i, h) in col.iter().enumerate() {
+                pw[i * self.n_v + j] = *h;
+            }
+        }
+        Self::from_parts(
+            (u_degree, self.v_degree),
+            (u_knots, self.v_knots.as_slice().to_vec()),
+            (n_u, self.n_v),
+            &pw,
+            self.is_rational(),
+        )
+    }
+
+    fn with_v_rows(&self, v_degree: usize, v_knots: Vec<f64>, rows: &[Vec<Hom>]) -> Self {
+        let n_v = rows[0].len();
+        let pw: Vec<Hom> = rows.iter().flatten().copied().collect();
+        Self::from_parts(
+            (self.u_degree, v_degree),
+            (self.u_knots.as_slice().to_vec(), v_knots),
+            (self.n_u, n_v),
+            &pw,
+            self.is_rational(),
+        )
+    }
+
+    /// The same surface with u and v exchanged: `t.eval(v, u) == s.eval(u, v)`.
+    pub fn transposed(&self) -> Self {
+        let mut pts = Vec::with_capacity(self.control_points.len());
+        let mut w = self.weights.as_ref().map(|_| Vec::with_capacity(self.control_points.len()));
+        for j in 0..self.n_v {
+            for i in 0..self.n_u {
+                pts.push(self.control_points[i * self.n_v + j]);
+                if let (Some(w), Some(sw)) = (&mut w, &self.weights) {
+                    w.push(sw[i * self.n_v + j]);
+                }
+            }
+        }
+        Self {
+            u_degree: self.v_degree,
+            v_degree: self.u_degree,
+            u_knots: self.v_knots.clone(),
+            v_knots: self.u_knots.clone(),
+            n_u: self.n_v,
+            n_v: self.n_u,
+            control_points: pts,
+            weights: w,
+        }
+    }
+
+    /// Inserts the knot `u` `times` times in the u direction (A5.1 per column);
+    /// returns the copies actually inserted (the multiplicity is capped at the degree).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::OutsideDomain`].
+    pub fn insert_u_knot(&mut self, u: f64, times: usize) -> Result<usize> {
+        check_in(&self.u_knots, self.u_degree, u)?;
+        let p = self.u_degree;
+        let (k, s) = algo::insertion_span(self.u_knots.as_slice(), u);
+        let r = times.min(p.saturating_sub(s));
+        if r == 0 {
+            return Ok(0);
+        }
+        let mut knots = Vec::new();
+        let cols: Vec<Vec<Hom>> = self
+            .u_rows()
+            .iter()
+            .map(|c| {
+                let (k2, q) = algo::insert_knot(p, self.u_knots.as_slice(), c, u, k, s, r);
+                knots = k2;
+                q
+            })
+            .collect();
+        *self = self.with_u_rows(p, knots, &cols);
+        Ok(r)
+    }
+
+    /// Inserts the knot `v` `times` times in the v direction; see
+    /// [`insert_u_knot`](Self::insert_u_knot).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::OutsideDomain`].
+    pub fn insert_v_knot(&mut self, v: f64, times: usize) -> Result<usize> {
+        let mut t = self.transposed();
+        let r = t.insert_u_knot(v, times)?;
+        *self = t.transposed();
+        Ok(r)
+    }
+
+    /// Knot refinement in u (Piegl & Tiller A5.5, u direction): inserts every value of
+    /// `x` at once.
+    ///
+    /// # Errors
+    ///
+    /// As [`NurbsCurve::refine`].
+    pub fn refine_u(&mut self, x: &[f64]) -> Result<()> {
+        let x = prepare_refinement(&self.u_knots, self.u_degree, x)?;
+        if x.is_empty() {
+            return Ok(());
+        }
+        let p = self.u_degree;
+        let mut knots = Vec::new();
+        let cols: Vec<Vec<Hom>> = self
+            .u_rows()
+            .iter()
+            .map(|c| {
+                let (k2, q) = algo::refine(p, self.u_knots.as_slice(), c, &x);
+                knots = k2;
+                q
+            })
+            .collect();
+        *self = self.with_u_rows(p, knots, &cols);
+        Ok(())
+    }
+
+    /// Knot refinement in v (Piegl & Tiller A5.5, v direction).
+    ///
+    /// # Errors
+    ///
+    /// As [`NurbsCurve::refine`].
+    pub fn refine_v(&mut self, x: &[f64]) -> Result<()> {
+        let x = prepare_refinement(&self.v_knots, self.v_degree, x)?;
+        if x.is_empty() {
+            return Ok(());
+        }
+        let q = self.v_degree;
+        let mut knots = Vec::new();
+        let rows: Vec<Vec<Hom>> = self
+            .v_rows()
+            .iter()
+            .map(|r| {
+                let (k2, pw) = algo::refine(q, self.v_knots.as_slice(), r, &x);
+                knots = k2;
+                pw
+            })
+            .collect();
+        *self = self.with_v_rows(q, knots, &rows);
+        Ok(())
+    }
+
+    /// Removes the u knot `u` up to `times` times while no point of the surface moves
+    /// more than `tol` (A5.8 applied to all columns together). Returns the copies removed.
+    pub fn remove_u_knot(&mut self, u: f64, times: usize, tol: f64) -> usize {
+        let p = self.u_degree;
+        let ks = self.u_knots.as_slice();
+        let Some(r) = ks.iter().rposition(|&k| k == u) else { return 0 };
+        let s = ks[..=r].iter().rev().take_while(|&&k| k == u).count();
+        if r <= p || r + p + 1 >= ks.len() || r < p + s - 1 || ks[r - s + 1] <= ks[p] {
+            return 0;
+        }
+        let tol = homogeneous_tol(tol, &self.control_points, self.weights.as_deref());
+        let mut knots = ks.to_vec();
+        let mut cols = self.u_rows();
+        let t = algo::remove_knot(p, &mut knots, &mut cols, r, s, times.min(s), tol);
+        if t > 0 {
+            *self = self.with_u_rows(p, knots, &cols);
+        }
+        t
+    }
+
+    /// Removes the v knot `v` up to `times` times within `tol`; see
+    /// [`remove_u_knot`](Self::remove_u_knot).
+    pub fn remove_v_knot(&mut self, v: f64, times: usize, tol: f64) -> usize {
+        let mut t = self.transposed();
+        let r = t.remove_u_knot(v, times, tol);
+        if r > 0 {
+            *self = t.transposed();
+        }
+        r
+    }
+
+    /// Raises the u degree by `t` (A5.9 on every column; unclamped directions are
+    /// clamped first). The geometry does not change.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Degree`] past [`MAX_DEGREE`].
+    pub fn elevate_u_degree(&mut self, t: usize) -> Result<()> {
+        if self.u_degree + t > MAX_DEGREE {
+            return Err(Error::Degree { degree: self.u_degree + t });
+        }
+        let p = self.u_degree;
+        let mut knots = Vec::new();
+        let cols: Vec<Vec<Hom>> = self
+            .u_rows()
+            .iter()
+            .map(|c| {
+                let (ck, cp) = clamp_hom(p, self.u_knots.as_slice(), c);
+                let (k2, q) = algo::elevate_degree(p, &ck, &cp, t);
+                knots = k2;
+                q
+            })
+            .collect();
+        *self = self.with_u_rows(p + t, knots, &cols);
+        Ok(())
+    }
+
+    /// Raises the v degree by `t`; see [`elevate_u_degree`](Self::elevate_u_degree).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Degree`] past [`MAX_DEGREE`].
+    pub fn elevate_v_degree(&mut self, t: usize) -> Result<()> {
+        let mut s = self.transposed();
+        s.elevate_u_degree(t)?;
+        *self = s.transposed();
+        Ok(())
+    }
+
+    /// Splits at `u = t` into the patches on `[u₀, t]` and `[t, u₁]`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::OutsideDomain`] unless `t` is strictly inside the u domain.
+    pub fn split_u(&self, t: f64) -> Result<(Self, Self)> {
+        let d = self.u_knots.domain(self.u_degree);
+        if !(t > *d.start() && t < *d.end()) {
+            return Err(Error::OutsideDomain { value: t, start: *d.start(), end: *d.end() });
+        }
+        // Split each column as a curve; all columns share the knot vector.
+        let p = self.u_degree;
+        let mut lk = Vec::new();
+        let mut rk = Vec::new();
+        let mut lc = Vec::new();
+        let mut rc = Vec::new();
+        for col in self.u_rows() {
+            let (ck, cp) = clamp_hom(p, self.u_knots.as_slice(), &col);
+            let c = NurbsCurve::from_parts(p, ck, &cp, true);
+            let (l, r) = c.split(t)?;
+            lk = l.knots().as_slice().to_vec();
+            rk = r.knots().as_slice().to_vec();
+            lc.push(l.homogeneous());
+            rc.push(r.homogeneous());
+        }
+        Ok((self.with_u_rows(p, lk, &lc), self.with_u_rows(p, rk, &rc)))
+    }
+
+    /// Splits at `v = t`; see [`split_u`](Self::split_u).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::OutsideDomain`] unless `t` is strictly inside the v domain.
+    pub fn split_v(&self, t: f64) -> Result<(Self, Self)> {
+        let (a, b) = self.transposed().split_u(t)?;
+        Ok((a.transposed(), b.transposed()))
+    }
+
+    /// The same surface with u running the other way: `r.eval(u₀ + u₁ − u, v) == s.eval(u, v)`.
+    pub fn u_reversed(&self) -> Self {
+        let mut s = self.clone();
+        s.u_knots = self.u_knots.reversed();
+        let n_v = self.n_v;
+        s.control_points =
+            (0..self.n_u).rev().flat_map(|i| self.control_points[i * n_v..(i + 1) * n_v].iter().copied()).collect();
+        if let Some(w) = &self.weights {
+            s.weights = Some((0..self.n_u).rev().flat_map(|i| w[i * n_v..(i + 1) * n_v].iter().copied()).collect());
+        }
+        s
+    }
+
+    /// The same surface with v running the other way.
+    pub fn v_reversed(&self) -> Self {
+        self.transposed().u_reversed().transposed()
+    }
+
+    /// The iso-parametric curve `v ↦ S(u, v)` as an exact NURBS curve (degree q, the v knots).
+    pub fn u_iso(&self, u: f64) -> NurbsCurve {
+        let p = self.u_degree;
+        let ks = self.u_knots.as_slice();
+        let span = crate::knots::find_span(ks, p, u);
+        let mut n = vec![0.0; p + 1];
+        let (mut l, mut r) = (vec![0.0; p + 1], vec![0.0; p + 1]);
+        basis_funs_into(ks, span, u, p, &mut n, &mut l, &mut r);
+        let pw = self.homogeneous();
+        let q: Vec<Hom> =
+            (0..self.n_v).map(|j| (0..=p).map(|k| pw[(span - p + k) * self.n_v + j] * n[k]).sum()).collect();
+        NurbsCurve::from_parts(self.v_degree, self.v_knots.as_slice().to_vec(), &q, self.is_rational())
+    }
+
+    /// The iso-parametric curve `u ↦ S(u, v)` as an exact NURBS curve (degree p, the u knots).
+    pub fn v_iso(&self, v: f64) -> NurbsCurve {
+        self.transposed().u_iso(v)
+    }
+
+    /// The boundary curve on one side of the parameter rectangle, running in the
+    /// direction of increasing parameter.
+    pub fn boundary(&self, side: Side) -> NurbsCurve {
+        let (ud, vd) = self.domain();
+        match side {
+            Side::UMin => self.u_iso(*ud.start()),
+            Side::UMax => self.u_iso(*ud.end()),
+            Side::VMin => self.v_iso(*vd.start()),
+            Side::VMax => self.v_iso(*vd.end()),
+        }
+    }
+
+    /// Point and first partial derivatives, with stack buffers (the hot path of
+    /// normals, projection and seam sampling).
+    pub fn eval_d1(&self, u: f64, v: f64) -> SurfacePointD1 {
+        let (p, q) = (self.u_degree, self.v_degree);
+        if p >= 8 || q >= 8 {
+            let d = self.derivs_general(u, v, 1);
+            return SurfacePointD1 { point: d.point(), du: d[(1, 0)], dv: d[(0, 1)] };
+        }
+        let uk = self.u_knots.as_slice();
+        let vk = self.v_knots.as_slice();
+        let su = crate::knots::find_span(uk, p, u);
+        let sv = crate::knots::find_span(vk, q, v);
+        let (nu, dnu) = basis_d1::<8>(uk, su, u, p);
+        let (nv, dnv) = basis_d1::<8>(vk, sv, v, q);
+        let (i0, j0) = (su - p, sv - q);
+        match &self.weights {
+            None => {
+                let mut s = Vector3::zeros();
+                let mut su_ = Vector3::zeros();
+                let mut sv_ = Vector3::zeros();
+                for k in 0..=p {
+                    let row = &self.control_points[(i0 + k) * self.n_v + j0..];
+                    let mut t0 = Vector3::zeros();
+                    let mut t1 = Vector3::zeros();
+                    for l in 0..=q {
+                        let c = row[l].coords;
+                        t0 += c * nv[l];
+                        t1 += c * dnv[l];
+                    }
+                    s += t0 * nu[k];
+                    su_ += t0 * dnu[k];
+                    sv_ += t1 * nu[k];
+                }
+                SurfacePointD1 { point: Point3::from(s), du: su_, dv: sv_ }
+            }
+            Some(w) => {
+                let mut s = Hom::zeros();
+                let mut su_ = Hom::zeros();
+                let mut sv_ = Hom::zeros();
+                for k in 0..=p {
+                    let base = (i0 + k) * self.n_v + j0;
+                    let mut t0 = Hom::zeros();
+                    let mut t1 = Hom::zeros();
+                    for l in 0..=q {
+                        let c = self.control_points[base + l];
+                        let wi = w[base + l];
+                        let h = Hom::new(c.x * wi, c.y * wi, c.z * wi, wi);
+                        t0 += h * nv[l];
+                        t1 += h * dnv[l];
+                    }
+                    s += t0 * nu[k];
+                    su_ += t0 * dnu[k];
+                    sv_ += t1 * nu[k];
+                }
+                let pt = s.xyz() / s.w;
+                SurfacePointD1 {
+                    point: Point3::from(pt),
+                    du: (su_.xyz() - pt * su_.w) / s.w,
+                    dv: (sv_.xyz() - pt * sv_.w) / s.w,
+                }
+            }
+        }
+    }
+
+    /// A3.6 + A4.4 with heap buffers, any order.
+    fn derivs_general(&self, u: f64, v: f64, n: usize) -> SurfaceDerivs {
+        let (p, q) = (self.u_degree, self.v_degree);
+        let uk = self.u_knots.as_slice();
+        let vk = self.v_knots.as_slice();
+        let su = crate::knots::find_span(uk, p, u);
+        let sv = crate::knots::find_span(vk, q, v);
+        let mut nu = vec![vec![0.0; p + 1]; n + 1];
+        let mut nv = vec![vec![0.0; q + 1]; n + 1];
+        ders_basis_funs_into(uk, su, u, p, n, &mut nu);
+        ders_basis_funs_into(vk, sv, v, q, n, &mut nv);
+        let w = self.weights.as_deref();
+        let hom = |i: usize, j: usize| {
+            let c = self.control_points[i * self.n_v + j];
+            let wi = w.map_or(1.0, |w| w[i * self.n_v + j]);
+            Hom::new(c.x * wi, c.y * wi, c.z * wi, wi)
+        };
+        let dim = n + 1;
+        let mut h = vec![Hom::zeros(); dim * dim];
+        let mut temp = vec![Hom::zeros(); q + 1];
+        for k in 0..=n {
+            for (s, t) in temp.iter_mut().enumerate() {
+                *t = (0..=p).map(|r| hom(su - p + r, sv - q + s) * nu[k][r]).sum();
+            }
+            for l in 0..=n - k {
+                h[k * dim + l] = (0..=q).map(|s| temp[s] * nv[l][s]).sum();
+            }
+        }
+        // A4.4: Cartesian derivatives from homogeneous ones.
+        let mut d = vec![Vector3::zeros(); dim * dim];
+        for k in 0..=n {
+            for l in 0..=n - k {
+                let mut v = h[k * dim + l].xyz();
+                for j in 1..=l {
+                    v -= d[k * dim + l - j] * (binomial(l, j) * h[j].w);
+                }
+                for i in 1..=k {
+                    v -= d[(k - i) * dim + l] * (binomial(k, i) * h[i * dim].w);
+                    let mut v2 = Vector3::zeros();
+                    for j in 1..=l {
+                        v2 += d[(k - i) * dim + l - j] * (binomial(l, j) * h[i * dim + j].w);
+                    }
+                    v -= v2 * binomial(k, i);
+                }
+                d[k * dim + l] = v / h[0].w;
+            }
+        }
+        SurfaceDerivs { order: n, d }
+    }
+}
+
+/// Basis functions and first derivatives in fixed-size buffers (degree < N).
+#[inline]
+fn basis_d1<const N: usize>(knots: &[f64], span: usize, u: f64, p: usize) -> ([f64; N], [f64; N]) {
+    // Degree p-1 functions first, then A2.3's first-derivative formula
+    // N'_{i,p} = p (N_{i,p-1}/(u_{i+p}-u_i) - N_{i+1,p-1}/(u_{i+p+1}-u_{i+1})).
+    let mut n = [0.0; N];
+    let mut left = [0.0; N];
+    let mut right = [0.0; N];
+    let mut d = [0.0; N];
+    n[0] = 1.0;
+    for j in 1..=p {
+        left[j] = u - knots[span + 1 - j];
+        right[j] = knots[span + j] - u;
+        if j == p {
+            // n[0..p] holds the degree p-1 functions N_{span-p+1..=span, p-1}.
+            let pf = p as f64;
+            for r in 0..=p {
+                // N_{span-p+r, p}' uses N_{span-p+r, p-1} = n[r-1] and N_{span-p+r+1, p-1} = n[r].
+                let a = if r >= 1 { n[r - 1] / (right[r] + left[p - r + 1]) } else { 0.0 };
+                let b = if r < p { n[r] / (right[r + 1] + left[p - r]) } else { 0.0 };
+                d[r] = pf * (a - b);
+            }
+        }
+        let mut saved = 0.0;
+        for r in 0..j {
+            let temp = n[r] / (right[r + 1] + left[j - r]);
+            n[r] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        n[j] = saved;
+    }
+    (n, d)
+}
+
+fn check_in(knots: &KnotVector, p: usize, u: f64) -> Result<()> {
+    let d = knots.domain(p);
+    if !(u >= *d.start() && u <= *d.end()) {
+        return Err(Error::OutsideDomain { value: u, start: *d.start(), end: *d.end() });
+    }
+    Ok(())
+}
+
+impl Surface for NurbsSurface {
+    fn domain(&self) -> (RangeInclusive<f64>, RangeInclusive<f64>) {
+        (self.u_knots.domain(self.u_degree), self.v_knots.domain(self.v_degree))
+    }
+
+    fn eval(&self, u: f64, v: f64) -> Point3<f64> {
+        let (p, q) = (self.u_degree, self.v_degree);
+        if p >= 8 || q >= 8 {
+            return self.derivs_general(u, v, 0).point();
+        }
+        let uk = self.u_knots.as_slice();
+        let vk = self.v_knots.as_slice();
+        let su = crate::knots::find_span(uk, p, u);
+        let sv = crate::knots::find_span(vk, q, v);
+        let mut nu = [0.0; 8];
+        let mut nv = [0.0; 8];
+        let mut left = [0.0; 8];
+        let mut right = [0.0; 8];
+        basis_funs_into(uk, su, u, p, &mut nu, &mut left, &mut right);
+        basis_funs_into(vk, sv, v, q, &mut nv, &mut left, &mut right);
+        let (i0, j0) = (su - p, sv - q);
+        match &self.weights {
+            None => {
+                let mut s = Vector3::zeros();
+                for k in 0..=p {
+                    let row = &self.control_points[(i0 + k) * self.n_v + j0..];
+                    let mut t = Vector3::zeros();
+                    for l in 0..=q {
+                        t += row[l].coords * nv[l];
+                    }
+                    s += t * nu[k];
+                }
+                Point3::from(s)
+            }
+            Some(w) => {
+                let mut s = Vector3::zeros();
+                let mut ws = 0.0;
+                for k in 0..=p {
+                    let base = (i0 + k) * self.n_v + j0;
+                    let mut t = Vector3::zeros();
+                    let mut tw = 0.0;
+                    for l in 0..=q {
+                        let nw = nv[l] * w[base + l];
+                        t += self.control_points[base + l].coords * nw;
+                        tw += nw;
+                    }
+                    s += t * nu[k];
+                    ws += tw * nu[k];
+                }
+                Point3::from(s / ws)
+            }
+        }
+    }
+
+    fn derivs(&self, u: f64, v: f64, n: usize) -> SurfaceDerivs {
+        self.derivs_general(u, v, n)
+    }
+
+    fn normal(&self, u: f64, v: f64) -> Option<Unit<Vector3<f64>>> {
+        let d = self.eval_d1(u, v);
+        let n = d.du.cross(&d.dv);
+        let scale = d.du.norm() * d.dv.norm();
+        if !(n.norm() > 1e-12 * scale) || scale == 0.0 {
+            return None;
+        }
+        Unit::try_new(n, 0.0)
+    }
+}
