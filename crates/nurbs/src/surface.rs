@@ -532,7 +532,7 @@ impl NurbsSurface {
     /// normals, projection and seam sampling).
     pub fn eval_d1(&self, u: f64, v: f64) -> SurfacePointD1 {
         let (p, q) = (self.u_degree, self.v_degree);
-        if p >= 8 || q >= 8 {
+        if p >= 16 || q >= 16 {
             let d = self.derivs_general(u, v, 1);
             return SurfacePointD1 { point: d.point(), du: d[(1, 0)], dv: d[(0, 1)] };
         }
@@ -540,8 +540,8 @@ impl NurbsSurface {
         let vk = self.v_knots.as_slice();
         let su = crate::knots::find_span(uk, p, u);
         let sv = crate::knots::find_span(vk, q, v);
-        let (nu, dnu) = basis_d1::<8>(uk, su, u, p);
-        let (nv, dnv) = basis_d1::<8>(vk, sv, v, q);
+        let (nu, dnu) = basis_d1::<16>(uk, su, u, p);
+        let (nv, dnv) = basis_d1::<16>(vk, sv, v, q);
         let (i0, j0) = (su - p, sv - q);
         match &self.weights {
             None => {
@@ -692,17 +692,17 @@ impl Surface for NurbsSurface {
 
     fn eval(&self, u: f64, v: f64) -> Point3<f64> {
         let (p, q) = (self.u_degree, self.v_degree);
-        if p >= 8 || q >= 8 {
+        if p >= 16 || q >= 16 {
             return self.derivs_general(u, v, 0).point();
         }
         let uk = self.u_knots.as_slice();
         let vk = self.v_knots.as_slice();
         let su = crate::knots::find_span(uk, p, u);
         let sv = crate::knots::find_span(vk, q, v);
-        let mut nu = [0.0; 8];
-        let mut nv = [0.0; 8];
-        let mut left = [0.0; 8];
-        let mut right = [0.0; 8];
+        let mut nu = [0.0; 16];
+        let mut nv = [0.0; 16];
+        let mut left = [0.0; 16];
+        let mut right = [0.0; 16];
         basis_funs_into(uk, su, u, p, &mut nu, &mut left, &mut right);
         basis_funs_into(vk, sv, v, q, &mut nv, &mut left, &mut right);
         let (i0, j0) = (su - p, sv - q);
