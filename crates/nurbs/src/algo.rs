@@ -129,7 +129,7 @@ pub(crate) fn remove_knot(
             temp[last + 1 - off] = pw[last + 1];
             let (mut i, mut j) = (first, last);
             let (mut ii, mut jj) = (1usize, last - off);
-            while j - i > t {
+            while j as isize - i as isize > t as isize {
                 let alfi = (u - knots[i]) / (knots[i + ord + t] - knots[i]);
                 let alfj = (u - knots[j - t]) / (knots[j + ord] - knots[j - t]);
                 temp[ii] = (pw[i] - temp[ii - 1] * (1.0 - alfi)) / alfi;
@@ -155,7 +155,7 @@ pub(crate) fn remove_knot(
         }
         for (pw, temp) in rows.iter_mut().zip(temps.iter()) {
             let (mut i, mut j) = (first, last);
-            while j - i > t {
+            while j as isize - i as isize > t as isize {
                 pw[i] = temp[i - off];
                 pw[j] = temp[j - off];
                 i += 1;
