@@ -301,8 +301,9 @@ def _clamped(surface, periodic_as):
 
     OCCT's IGES and STEP readers turn a closed, clamped B-spline (first pole row equal to the
     last) into its periodic form. The file stores the clamped form. SetU/VNotPeriodic alone
-    gives an *unclamped* form (end multiplicity 1, knots beyond the domain, a dummy first
-    pole); Segment over the bounds then restores the clamped knots and poles of the file.
+    gives an unclamped knot vector (for the blade: 0 with multiplicity 3 plus an extra knot
+    below 0, the same at 1); the poles and the geometry on the domain are the same, but the
+    knots are not the file's. Segment over the bounds restores the clamped end knots.
     periodic_as='unclamped' skips that step (what shared/reference/make_samples.py wrote).
     """
     copy = surface.Copy()
