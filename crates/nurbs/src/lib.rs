@@ -30,6 +30,7 @@ use std::ops::RangeInclusive;
 use nalgebra::{Point3, Unit, Vector3};
 
 mod algo;
+pub mod analytic;
 mod basis;
 mod curve;
 mod error;
