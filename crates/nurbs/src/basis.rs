@@ -2,7 +2,7 @@
 
 /// The `p + 1` non-zero basis functions `N_{span−p,p}(u) … N_{span,p}(u)` written into
 /// `out[..=p]` (Piegl & Tiller A2.2). `left` and `right` are scratch of length `p + 1`.
-#[inline]
+#[inline(always)]
 pub(crate) fn basis_funs_into(
     knots: &[f64],
     span: usize,

@@ -532,16 +532,27 @@ impl NurbsSurface {
     /// normals, projection and seam sampling).
     pub fn eval_d1(&self, u: f64, v: f64) -> SurfacePointD1 {
         let (p, q) = (self.u_degree, self.v_degree);
-        if p >= 16 || q >= 16 {
-            let d = self.derivs_general(u, v, 1);
-            return SurfacePointD1 { point: d.point(), du: d[(1, 0)], dv: d[(0, 1)] };
+        match p.max(q) {
+            _ if (p, q) == (3, 3) => self.eval_d1_n::<4>(u, v, 3, 3),
+            0..=3 => self.eval_d1_n::<4>(u, v, p, q),
+            4..=7 => self.eval_d1_n::<8>(u, v, p, q),
+            8..=15 => self.eval_d1_n::<16>(u, v, p, q),
+            _ => {
+                let d = self.derivs_general(u, v, 1);
+                SurfacePointD1 { point: d.point(), du: d[(1, 0)], dv: d[(0, 1)] }
+            }
         }
+    }
+
+    /// [`eval_d1`](Self::eval_d1) with basis buffers of `N > max(p, q)` entries on the stack.
+    #[inline(always)]
+    fn eval_d1_n<const N: usize>(&self, u: f64, v: f64, p: usize, q: usize) -> SurfacePointD1 {
         let uk = self.u_knots.as_slice();
         let vk = self.v_knots.as_slice();
         let su = crate::knots::find_span(uk, p, u);
         let sv = crate::knots::find_span(vk, q, v);
-        let (nu, dnu) = basis_d1::<16>(uk, su, u, p);
-        let (nv, dnv) = basis_d1::<16>(vk, sv, v, q);
+        let (nu, dnu) = basis_d1::<N>(uk, su, u, p);
+        let (nv, dnv) = basis_d1::<N>(vk, sv, v, q);
         let (i0, j0) = (su - p, sv - q);
         match &self.weights {
             None => {
@@ -644,7 +655,7 @@ impl NurbsSurface {
 }
 
 /// Basis functions and first derivatives in fixed-size buffers (degree < N).
-#[inline]
+#[inline(always)]
 fn basis_d1<const N: usize>(knots: &[f64], span: usize, u: f64, p: usize) -> ([f64; N], [f64; N]) {
     // Degree p-1 functions first, then A2.3's first-derivative formula
     // N'_{i,p} = p (N_{i,p-1}/(u_{i+p}-u_i) - N_{i+1,p-1}/(u_{i+p+1}-u_{i+1})).
@@ -677,32 +688,20 @@ fn basis_d1<const N: usize>(knots: &[f64], span: usize, u: f64, p: usize) -> ([f
     (n, d)
 }
 
-fn check_in(knots: &KnotVector, p: usize, u: f64) -> Result<()> {
-    let d = knots.domain(p);
-    if !(u >= *d.start() && u <= *d.end()) {
-        return Err(Error::OutsideDomain { value: u, start: *d.start(), end: *d.end() });
-    }
-    Ok(())
-}
-
-impl Surface for NurbsSurface {
-    fn domain(&self) -> (RangeInclusive<f64>, RangeInclusive<f64>) {
-        (self.u_knots.domain(self.u_degree), self.v_knots.domain(self.v_degree))
-    }
-
-    fn eval(&self, u: f64, v: f64) -> Point3<f64> {
-        let (p, q) = (self.u_degree, self.v_degree);
-        if p >= 16 || q >= 16 {
-            return self.derivs_general(u, v, 0).point();
-        }
+impl NurbsSurface {
+    /// `S(u, v)` with basis buffers of `N > max(p, q)` entries on the stack.
+    /// `p` and `q` are passed in (equal to the degrees) so that the common bicubic
+    /// case is compiled with constant loop bounds.
+    #[inline(always)]
+    fn eval_n<const N: usize>(&self, u: f64, v: f64, p: usize, q: usize) -> Point3<f64> {
         let uk = self.u_knots.as_slice();
         let vk = self.v_knots.as_slice();
         let su = crate::knots::find_span(uk, p, u);
         let sv = crate::knots::find_span(vk, q, v);
-        let mut nu = [0.0; 16];
-        let mut nv = [0.0; 16];
-        let mut left = [0.0; 16];
-        let mut right = [0.0; 16];
+        let mut nu = [0.0; N];
+        let mut nv = [0.0; N];
+        let mut left = [0.0; N];
+        let mut right = [0.0; N];
         basis_funs_into(uk, su, u, p, &mut nu, &mut left, &mut right);
         basis_funs_into(vk, sv, v, q, &mut nv, &mut left, &mut right);
         let (i0, j0) = (su - p, sv - q);
@@ -736,6 +735,31 @@ impl Surface for NurbsSurface {
                 }
                 Point3::from(s / ws)
             }
+        }
+    }
+}
+
+fn check_in(knots: &KnotVector, p: usize, u: f64) -> Result<()> {
+    let d = knots.domain(p);
+    if !(u >= *d.start() && u <= *d.end()) {
+        return Err(Error::OutsideDomain { value: u, start: *d.start(), end: *d.end() });
+    }
+    Ok(())
+}
+
+impl Surface for NurbsSurface {
+    fn domain(&self) -> (RangeInclusive<f64>, RangeInclusive<f64>) {
+        (self.u_knots.domain(self.u_degree), self.v_knots.domain(self.v_degree))
+    }
+
+    fn eval(&self, u: f64, v: f64) -> Point3<f64> {
+        let (p, q) = (self.u_degree, self.v_degree);
+        match p.max(q) {
+            _ if (p, q) == (3, 3) => self.eval_n::<4>(u, v, 3, 3),
+            0..=3 => self.eval_n::<4>(u, v, p, q),
+            4..=7 => self.eval_n::<8>(u, v, p, q),
+            8..=15 => self.eval_n::<16>(u, v, p, q),
+            _ => self.derivs_general(u, v, 0).point(),
         }
     }
 
