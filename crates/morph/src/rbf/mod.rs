@@ -1,0 +1,615 @@
+//! Radial basis function interpolation of control-point displacements (paper §2.1.2,
+//! eq. (3)–(5)), with every PyGeM kernel and the compactly supported Wendland family.
+
+mod condition;
+mod eval;
+mod kernel;
+
+pub use kernel::{Kernel, DEFAULT_K};
+
+use faer::linalg::solvers::{PartialPivLu, Solve};
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{Mat, Side};
+use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use nalgebra::{Matrix3, Matrix4, Point3, Vector3};
+use rayon::prelude::*;
+
+use crate::deformation::{check_params, ParamWeights, PARALLEL_MIN_POINTS};
+use crate::{Deformation, Error, LinearInParameters, Result};
+use eval::{Centres, LANES};
+
+/// Default limit on the 1-norm condition estimate of the interpolation system.
+///
+/// A backward-stable solve loses about `log10(κ)` of the 16 significant digits in the
+/// weights; at κ = 10¹² four remain, and the interpolant still passes through its centres
+/// to about 1e-10 relative. Beyond it the result is numerical noise dressed as a shape
+/// (PyGeM's Gaussian with radius 0.5 on 1000 random points in the unit cube, κ > 10²⁰,
+/// misses its own control points by 4.0), so building fails with
+/// [`Error::IllConditioned`] instead. Raise it with [`RbfOptions::max_condition`] at your
+/// own risk.
+pub const MAX_CONDITION: f64 = 1e12;
+
+/// From this many control points on, [`Solver::Auto`] solves compactly supported kernels
+/// with the sparse factorisation (below it the dense one is as fast).
+pub const SPARSE_MIN_CENTRES: usize = 1000;
+
+/// The parameters of an RBF: kernel, control points before and after the deformation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RbfParameters {
+    /// The basis function.
+    pub kernel: Kernel,
+    /// Control points before the deformation.
+    pub original: Vec<Point3<f64>>,
+    /// Control points after the deformation (same count).
+    pub deformed: Vec<Point3<f64>>,
+}
+
+/// How the interpolation system is solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Solver {
+    /// Dense for global kernels; sparse for compact ones with at least
+    /// [`SPARSE_MIN_CENTRES`] centres.
+    #[default]
+    Auto,
+    /// Dense LU with partial pivoting (faer) of the whole `(N+4)²` system.
+    Dense,
+    /// Sparse Cholesky (faer, AMD ordering) of the kernel block and a 4×4 Schur complement
+    /// for the linear term; compact kernels only.
+    Sparse,
+}
+
+/// Options for building an [`Rbf`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RbfOptions {
+    /// Solver choice.
+    pub solver: Solver,
+    /// Largest accepted condition estimate (default [`MAX_CONDITION`]).
+    pub max_condition: f64,
+}
+
+impl Default for RbfOptions {
+    fn default() -> Self {
+        RbfOptions { solver: Solver::Auto, max_condition: MAX_CONDITION }
+    }
+}
+
+/// The factorised interpolation system.
+#[derive(Debug)]
+enum System {
+    Dense(PartialPivLu<f64>),
+    Sparse {
+        llt: faer::sparse::linalg::solvers::Llt<usize, f64>,
+        /// Φ⁻¹P (N×4).
+        phi_inv_p: Mat<f64>,
+        /// (PᵀΦ⁻¹P)⁻¹.
+        schur_inv: Matrix4<f64>,
+    },
+}
+
+/// RBF interpolation of control-point displacements (paper eq. (3)–(5)):
+///
+/// ```text
+/// φ(x) = x + s(x) + Σᵢ γᵢ φ(‖x − x_Cᵢ‖),    s(x) = c + Q x,
+/// φ(x_Cᵢ) = y_Cᵢ  (eq. 4),    Σᵢ γᵢ = 0,  Σᵢ γᵢ x_Cᵢ⁽ʲ⁾ = 0  (eq. 5)
+/// ```
+///
+/// This is the interpolant PyGeM's `RBF` builds (it interpolates the deformed points
+/// themselves, which differs by the identity in `Q`; [`Rbf::pygem_weights`] gives the
+/// weights in its layout). The linear term uses centred and scaled coordinates internally,
+/// which changes no value but keeps the system well conditioned for models far from the
+/// origin or in millimetres.
+///
+/// Building solves the system once, densely (faer LU) for global kernels, or with a
+/// k-d tree neighbourhood (kiddo) and a sparse Cholesky factorisation for compactly
+/// supported ones, and refuses a singular or ill-conditioned system
+/// ([`Error::SingularSystem`], [`Error::IllConditioned`]) with its condition estimate.
+///
+/// # Examples
+///
+/// ```
+/// use cadmorph_morph::{Deformation, Rbf, rbf::Kernel};
+/// use cadmorph_morph::math::{Point3, Vector3};
+/// let centres = [
+///     Point3::new(0.0, 0.0, 0.0), Point3::new(1.0, 0.0, 0.0), Point3::new(0.0, 1.0, 0.0),
+///     Point3::new(0.0, 0.0, 1.0), Point3::new(1.0, 1.0, 1.0),
+/// ];
+/// let mut moves = vec![Vector3::zeros(); 5];
+/// moves[4] = Vector3::new(0.1, 0.2, 0.3);
+/// let rbf = Rbf::try_new(&centres, &moves, Kernel::ThinPlate { radius: 0.5, k: 2 })?;
+/// let p = rbf.deform_point(&centres[4]);
+/// assert!((p - Point3::new(1.1, 1.2, 1.3)).norm() < 1e-13);
+/// # Ok::<(), cadmorph_morph::Error>(())
+/// ```
+#[derive(Debug)]
+pub struct Rbf {
+    kernel: Kernel,
+    centres: Vec<Point3<f64>>,
+    displacements: Vec<Vector3<f64>>,
+    soa: Centres,
+    /// Linear term per component c: `β[c] = [b₀, b₁, b₂, b₃]`, `s_c(x) = b₀ + Σₐ bₐ₊₁ (xₐ − shift_a)/scale`.
+    beta: [[f64; 4]; 3],
+    shift: Vector3<f64>,
+    scale: f64,
+    system: System,
+    condition: f64,
+    tree: Option<ImmutableKdTree<f64, 3>>,
+}
+
+impl Rbf {
+    /// An RBF moving `centres[i]` by `displacements[i]`, with default [`RbfOptions`].
+    ///
+    /// # Errors
+    ///
+    /// [`Error::CountMismatch`] for unequal lists or fewer than 4 centres (the linear term
+    /// has 4 unknowns); [`Error::InvalidParameter`] for a bad radius or a non-finite value;
+    /// [`Error::SingularSystem`] (duplicate centres, all centres in one plane) and
+    /// [`Error::IllConditioned`] with the condition estimate.
+    pub fn try_new(centres: &[Point3<f64>], displacements: &[Vector3<f64>], kernel: Kernel) -> Result<Rbf> {
+        Rbf::try_new_with(centres, displacements, kernel, RbfOptions::default())
+    }
+
+    /// The RBF described by `params` (displacements `deformed − original`).
+    ///
+    /// # Errors
+    ///
+    /// As [`Rbf::try_new`].
+    pub fn from_parameters(params: &RbfParameters) -> Result<Rbf> {
+        if params.original.len() != params.deformed.len() {
+            return Err(Error::CountMismatch { line: 0, what: "deformed control points", expected: params.original.len(), found: params.deformed.len() });
+        }
+        let d: Vec<Vector3<f64>> = params.original.iter().zip(&params.deformed).map(|(a, b)| b - a).collect();
+        Rbf::try_new(&params.original, &d, params.kernel)
+    }
+
+    /// As [`Rbf::try_new`], with explicit options.
+    ///
+    /// # Errors
+    ///
+    /// As [`Rbf::try_new`]; also [`Error::InvalidParameter`] when [`Solver::Sparse`] is
+    /// asked for a global kernel.
+    pub fn try_new_with(centres: &[Point3<f64>], displacements: &[Vector3<f64>], kernel: Kernel, options: RbfOptions) -> Result<Rbf> {
+        kernel.validate()?;
+        let n = centres.len();
+        if n != displacements.len() {
+            return Err(Error::CountMismatch { line: 0, what: "displacements (one per control point)", expected: n, found: displacements.len() });
+        }
+        if n < 4 {
+            return Err(Error::CountMismatch { line: 0, what: "control points (the linear term needs at least 4)", expected: 4, found: n });
+        }
+        for v in centres.iter().flat_map(|p| p.iter()).chain(displacements.iter().flat_map(|d| d.iter())) {
+            if !v.is_finite() {
+                return Err(Error::InvalidParameter { line: None, name: "control point", value: *v, reason: "must be finite" });
+            }
+        }
+        let sparse = match options.solver {
+            Solver::Dense => false,
+            Solver::Sparse => {
+                if kernel.support().is_none() {
+                    return Err(Error::InvalidParameter {
+                        line: None,
+                        name: "radius",
+                        value: kernel.radius(),
+                        reason: "the sparse solver needs a compactly supported kernel",
+                    });
+                }
+                true
+            }
+            Solver::Auto => kernel.support().is_some() && n >= SPARSE_MIN_CENTRES,
+        };
+        let shift = centres.iter().fold(Vector3::zeros(), |a, p| a + p.coords) / n as f64;
+        let scale = centres.iter().map(|p| (p.coords - shift).amax()).fold(0.0, f64::max);
+        let scale = if scale > 0.0 { scale } else { 1.0 };
+        let tree = kernel.support().map(|_| {
+            let pts: Vec<[f64; 3]> = centres.iter().map(|p| [p.x, p.y, p.z]).collect();
+            ImmutableKdTree::new_from_slice(&pts)
+        });
+        let mut rbf = Rbf {
+            kernel,
+            centres: centres.to_vec(),
+            displacements: displacements.to_vec(),
+            soa: Centres {
+                x: centres.iter().map(|p| p.x).collect(),
+                y: centres.iter().map(|p| p.y).collect(),
+                z: centres.iter().map(|p| p.z).collect(),
+                g: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            },
+            beta: [[0.0; 4]; 3],
+            shift,
+            scale,
+            system: System::Dense(Mat::<f64>::identity(1, 1).partial_piv_lu()),
+            condition: 1.0,
+            tree,
+        };
+        let (system, condition) = if sparse { rbf.factor_sparse()? } else { rbf.factor_dense()? };
+        if !(condition < 1.0 / f64::EPSILON) {
+            return Err(Error::SingularSystem { condition });
+        }
+        if condition > options.max_condition {
+            return Err(Error::IllConditioned { condition, limit: options.max_condition });
+        }
+        rbf.system = system;
+        rbf.condition = condition;
+        rbf.solve_weights()?;
+        Ok(rbf)
+    }
+
+    /// The polynomial basis row `[1, (x − shift)/scale]`.
+    fn poly_row(&self, p: &Point3<f64>) -> [f64; 4] {
+        let q = (p.coords - self.shift) / self.scale;
+        [1.0, q.x, q.y, q.z]
+    }
+
+    fn factor_dense(&self) -> Result<(System, f64)> {
+        let n = self.centres.len();
+        let size = n + 4;
+        let kernel = self.kernel;
+        let polys: Vec<[f64; 4]> = self.centres.iter().map(|p| self.poly_row(p)).collect();
+        let mut data = vec![0.0; size * size];
+        data.par_chunks_mut(size).enumerate().for_each(|(j, col)| {
+            if j < n {
+                let cj = self.centres[j];
+                for i in 0..n {
+                    col[i] = kernel.eval((self.centres[i] - cj).norm());
+                }
+                col[n..].copy_from_slice(&polys[j]);
+            } else {
+                for i in 0..n {
+                    col[i] = polys[i][j - n];
+                }
+            }
+        });
+        let norm1 = data.par_chunks(size).map(|c| c.iter().map(|v| v.abs()).sum::<f64>()).reduce(|| 0.0, f64::max);
+        let a = Mat::from_fn(size, size, |i, j| data[j * size + i]);
+        drop(data);
+        let lu = a.partial_piv_lu();
+        drop(a);
+        let inv = condition::inverse_norm1(
+            size,
+            &mut |x: &mut [f64]| solve_vec(&lu, x, false),
+            &mut |x: &mut [f64]| solve_vec(&lu, x, true),
+        );
+        Ok((System::Dense(lu), norm1 * inv))
+    }
+
+    fn factor_sparse(&self) -> Result<(System, f64)> {
+        let n = self.centres.len();
+        let tree = self.tree.as_ref().expect("compact kernels have a tree");
+        let s = self.kernel.support().expect("compact kernel");
+        let kernel = self.kernel;
+        // Lower triangle of Φ (row ≥ column), found with the k-d tree.
+        let columns: Vec<Vec<(usize, f64)>> = (0..n)
+            .into_par_iter()
+            .map(|j| {
+                let c = self.centres[j];
+                let mut col: Vec<(usize, f64)> = tree
+                    .within_unsorted::<SquaredEuclidean>(&[c.x, c.y, c.z], s * s)
+                    .into_iter()
+                    .filter_map(|nb| {
+                        let i = nb.item as usize;
+                        (i >= j && nb.distance < s * s).then(|| (i, kernel.eval(nb.distance.sqrt())))
+                    })
+                    .collect();
+                col.sort_unstable_by_key(|e| e.0);
+                col
+            })
+            .collect();
+        let mut norm1_cols = vec![0.0; n];
+        let mut triplets = Vec::with_capacity(columns.iter().map(Vec::len).sum());
+        for (j, col) in columns.iter().enumerate() {
+            for &(i, v) in col {
+                triplets.push(Triplet::new(i, j, v));
+                norm1_cols[j] += v.abs();
+                if i != j {
+                    norm1_cols[i] += v.abs();
+                }
+            }
+        }
+        drop(columns);
+        let norm1 = norm1_cols.into_iter().fold(0.0, f64::max);
+        let phi = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets).map_err(|_| Error::SingularSystem { condition: f64::INFINITY })?;
+        drop(triplets);
+        // Φ is positive definite for distinct centres; a failed Cholesky means coincident ones.
+        let llt = phi.sp_cholesky(Side::Lower).map_err(|_| Error::SingularSystem { condition: f64::INFINITY })?;
+        drop(phi);
+        let inv = condition::inverse_norm1(
+            n,
+            &mut |x: &mut [f64]| sparse_solve_vec(&llt, x),
+            &mut |x: &mut [f64]| sparse_solve_vec(&llt, x),
+        );
+        let cond_phi = norm1 * inv;
+        let mut phi_inv_p = Mat::from_fn(n, 4, |i, a| self.poly_row(&self.centres[i])[a]);
+        llt.solve_in_place(phi_inv_p.as_mut());
+        let mut schur = Matrix4::zeros();
+        for (i, c) in self.centres.iter().enumerate() {
+            let row = self.poly_row(c);
+            for a in 0..4 {
+                for b in 0..4 {
+                    schur[(a, b)] += row[a] * phi_inv_p[(i, b)];
+                }
+            }
+        }
+        let schur_inv = schur.try_inverse().ok_or(Error::SingularSystem { condition: f64::INFINITY })?;
+        let col_norm1 = |m: &Matrix4<f64>| -> f64 { (0..4).map(|j| m.column(j).iter().map(|v| v.abs()).sum::<f64>()).fold(0.0, f64::max) };
+        let cond_schur = col_norm1(&schur) * col_norm1(&schur_inv);
+        let cond_schur = if cond_schur.is_finite() { cond_schur } else { f64::INFINITY };
+        Ok((System::Sparse { llt, phi_inv_p, schur_inv }, cond_phi.max(cond_schur)))
+    }
+
+    /// Solve the KKT system `[Φ P; Pᵀ 0] [γ; β] = [f; h]` in place for the columns of `rhs`
+    /// ((N+4) × m).
+    fn solve_kkt(&self, rhs: &mut Mat<f64>) {
+        let n = self.centres.len();
+        match &self.system {
+            System::Dense(lu) => lu.solve_in_place(rhs.as_mut()),
+            System::Sparse { llt, phi_inv_p, schur_inv } => {
+                let m = rhs.ncols();
+                let mut z = Mat::from_fn(n, m, |i, j| rhs[(i, j)]);
+                llt.solve_in_place(z.as_mut());
+                for col in 0..m {
+                    // β = S⁻¹ (Pᵀ Φ⁻¹ f − h)
+                    let mut t = nalgebra::Vector4::zeros();
+                    for (i, c) in self.centres.iter().enumerate() {
+                        let row = self.poly_row(c);
+                        for a in 0..4 {
+                            t[a] += row[a] * z[(i, col)];
+                        }
+                    }
+                    for a in 0..4 {
+                        t[a] -= rhs[(n + a, col)];
+                    }
+                    let beta = schur_inv * t;
+                    for i in 0..n {
+                        let mut v = z[(i, col)];
+                        for a in 0..4 {
+                            v -= phi_inv_p[(i, a)] * beta[a];
+                        }
+                        rhs[(i, col)] = v;
+                    }
+                    for a in 0..4 {
+                        rhs[(n + a, col)] = beta[a];
+                    }
+                }
+            }
+        }
+    }
+
+    /// Solve for γ and β from the current displacements.
+    fn solve_weights(&mut self) -> Result<()> {
+        let n = self.centres.len();
+        let mut rhs = Mat::from_fn(n + 4, 3, |i, c| if i < n { self.displacements[i][c] } else { 0.0 });
+        self.solve_kkt(&mut rhs);
+        for c in 0..3 {
+            for i in 0..n {
+                let v = rhs[(i, c)];
+                if !v.is_finite() {
+                    return Err(Error::SingularSystem { condition: f64::INFINITY });
+                }
+                self.soa.g[c][i] = v;
+            }
+            for a in 0..4 {
+                self.beta[c][a] = rhs[(n + a, c)];
+            }
+        }
+        Ok(())
+    }
+
+    /// The kernel.
+    pub fn kernel(&self) -> Kernel {
+        self.kernel
+    }
+    /// The control points.
+    pub fn centres(&self) -> &[Point3<f64>] {
+        &self.centres
+    }
+    /// The control displacements.
+    pub fn displacements(&self) -> &[Vector3<f64>] {
+        &self.displacements
+    }
+    /// The 1-norm condition estimate of the solved system (of the kernel block and of
+    /// the 4×4 Schur complement, the larger, for the sparse solver).
+    pub fn condition(&self) -> f64 {
+        self.condition
+    }
+    /// Whether the system was solved with the sparse factorisation.
+    pub fn is_sparse(&self) -> bool {
+        matches!(self.system, System::Sparse { .. })
+    }
+
+    /// The parameters (control points before and after).
+    pub fn parameters(&self) -> RbfParameters {
+        RbfParameters {
+            kernel: self.kernel,
+            original: self.centres.clone(),
+            deformed: self.centres.iter().zip(&self.displacements).map(|(c, d)| c + d).collect(),
+        }
+    }
+
+    /// The weights in PyGeM's layout (`RBF.weights`, (N+4) × 3): rows `0..N` are γᵢ, row
+    /// `N` the constant c, rows `N+1..N+4` the coefficients of x, y, z (PyGeM interpolates
+    /// the deformed points, so its linear part is this crate's plus the identity).
+    pub fn pygem_weights(&self) -> Vec<[f64; 3]> {
+        let n = self.centres.len();
+        let mut out = vec![[0.0; 3]; n + 4];
+        for c in 0..3 {
+            for i in 0..n {
+                out[i][c] = self.soa.g[c][i];
+            }
+            let b = self.beta[c];
+            // b₀ + Σ bₐ (xₐ − shiftₐ)/scale = (b₀ − Σ bₐ shiftₐ/scale) + Σ (bₐ/scale) xₐ
+            out[n][c] = b[0] - (0..3).map(|a| b[a + 1] * self.shift[a] / self.scale).sum::<f64>();
+            for a in 0..3 {
+                out[n + 1 + a][c] = b[a + 1] / self.scale + if a == c { 1.0 } else { 0.0 };
+            }
+        }
+        out
+    }
+
+    /// The linear term's displacement `s(p)`.
+    #[inline]
+    fn linear_term(&self, p: &Point3<f64>) -> Vector3<f64> {
+        let r = self.poly_row(p);
+        Vector3::from_fn(|c, _| self.beta[c][0] + self.beta[c][1] * r[1] + self.beta[c][2] * r[2] + self.beta[c][3] * r[3])
+    }
+
+    /// Indices and distances of the centres whose kernel may be nonzero at `p`.
+    fn neighbours(&self, p: &Point3<f64>) -> Option<Vec<(usize, f64)>> {
+        let tree = self.tree.as_ref()?;
+        let s = self.kernel.support()?;
+        Some(
+            tree.within_unsorted::<SquaredEuclidean>(&[p.x, p.y, p.z], s * s)
+                .into_iter()
+                .filter(|nb| nb.distance < s * s)
+                .map(|nb| (nb.item as usize, nb.distance.sqrt()))
+                .collect(),
+        )
+    }
+
+    /// Deform `points` on the calling thread.
+    fn deform_serial(&self, points: &mut [Point3<f64>]) {
+        if self.tree.is_some() {
+            for p in points {
+                *p = self.deform_point(p);
+            }
+            return;
+        }
+        for block in points.chunks_mut(LANES) {
+            let mut px = [0.0; LANES];
+            let mut py = [0.0; LANES];
+            let mut pz = [0.0; LANES];
+            for (lane, p) in block.iter().enumerate() {
+                px[lane] = p.x;
+                py[lane] = p.y;
+                pz[lane] = p.z;
+            }
+            let sums = eval::dense_sums(&self.kernel, &self.soa, &px, &py, &pz);
+            for (lane, p) in block.iter_mut().enumerate() {
+                let d = self.linear_term(p) + Vector3::new(sums[0][lane], sums[1][lane], sums[2][lane]);
+                *p += d;
+            }
+        }
+    }
+}
+
+/// `x ← A⁻¹x` (or `A⁻ᵀx`) with a dense LU.
+fn solve_vec(lu: &PartialPivLu<f64>, x: &mut [f64], transpose: bool) {
+    let mut m = Mat::from_fn(x.len(), 1, |i, _| x[i]);
+    if transpose {
+        lu.solve_transpose_in_place(m.as_mut());
+    } else {
+        lu.solve_in_place(m.as_mut());
+    }
+    for (i, v) in x.iter_mut().enumerate() {
+        *v = m[(i, 0)];
+    }
+}
+
+/// `x ← Φ⁻¹x` with a sparse Cholesky factor.
+fn sparse_solve_vec(llt: &faer::sparse::linalg::solvers::Llt<usize, f64>, x: &mut [f64]) {
+    let mut m = Mat::from_fn(x.len(), 1, |i, _| x[i]);
+    llt.solve_in_place(m.as_mut());
+    for (i, v) in x.iter_mut().enumerate() {
+        *v = m[(i, 0)];
+    }
+}
+
+impl Deformation for Rbf {
+    fn deform_point(&self, p: &Point3<f64>) -> Point3<f64> {
+        let mut d = self.linear_term(p);
+        match self.neighbours(p) {
+            Some(nbs) => {
+                for (j, r) in nbs {
+                    let f = self.kernel.eval(r);
+                    d += f * Vector3::new(self.soa.g[0][j], self.soa.g[1][j], self.soa.g[2][j]);
+                }
+            }
+            None => {
+                for (j, c) in self.centres.iter().enumerate() {
+                    let f = self.kernel.eval((p - c).norm());
+                    d += f * Vector3::new(self.soa.g[0][j], self.soa.g[1][j], self.soa.g[2][j]);
+                }
+            }
+        }
+        p + d
+    }
+
+    fn deform(&self, points: &mut [Point3<f64>]) {
+        // One point costs Nc kernel evaluations (global) or a tree query, so split finely.
+        let chunk = if self.tree.is_some() { 256 } else { (1 << 16) / self.centres.len().max(1) }.clamp(LANES, 4096);
+        if points.len() >= PARALLEL_MIN_POINTS.min(4 * chunk) {
+            points.par_chunks_mut(chunk).for_each(|c| self.deform_serial(c));
+        } else {
+            self.deform_serial(points);
+        }
+    }
+
+    /// `I + ∂s/∂x + Σᵢ γᵢ φ'(rᵢ) (x − x_Cᵢ)ᵀ / rᵢ`; `None` at a centre where the kernel has a
+    /// corner (φ'(0) ≠ 0: `polyharmonic_spline` and `thin_plate_spline` with k = 1, `wendland_c0`).
+    fn jacobian(&self, p: &Point3<f64>) -> Option<Matrix3<f64>> {
+        let mut j = Matrix3::identity();
+        for c in 0..3 {
+            for a in 0..3 {
+                j[(c, a)] += self.beta[c][a + 1] / self.scale;
+            }
+        }
+        let nbs: Vec<(usize, f64)> = match self.neighbours(p) {
+            Some(v) => v,
+            None => self.centres.iter().enumerate().map(|(i, c)| (i, (p - c).norm())).collect(),
+        };
+        for (i, r) in nbs {
+            if r == 0.0 {
+                if self.kernel.smooth_at_centre() {
+                    continue;
+                }
+                return None;
+            }
+            let u = (p - self.centres[i]) / r;
+            let g = Vector3::new(self.soa.g[0][i], self.soa.g[1][i], self.soa.g[2][i]);
+            j += self.kernel.deriv(r) * g * u.transpose();
+        }
+        Some(j)
+    }
+}
+
+impl LinearInParameters for Rbf {
+    /// `3 · Nc`: `[δx of all control points, δy, δz]`.
+    fn n_params(&self) -> usize {
+        3 * self.centres.len()
+    }
+    fn params(&self) -> Vec<f64> {
+        (0..3).flat_map(|c| self.displacements.iter().map(move |d| d[c])).collect()
+    }
+    /// Re-solves with the stored factorisation: O(N²) dense, two triangular solves sparse.
+    fn set_params(&mut self, theta: &[f64]) -> Result<()> {
+        check_params(theta, self.n_params())?;
+        let n = self.centres.len();
+        for i in 0..n {
+            self.displacements[i] = Vector3::new(theta[i], theta[n + i], theta[2 * n + i]);
+        }
+        self.solve_weights()
+    }
+    /// The cardinal weights at `p`: one solve with the stored factorisation per call.
+    fn param_weights(&self, p: &Point3<f64>) -> ParamWeights {
+        let n = self.centres.len();
+        let mut rhs = Mat::<f64>::zeros(n + 4, 1);
+        match self.neighbours(p) {
+            Some(nbs) => {
+                for (j, r) in nbs {
+                    rhs[(j, 0)] = self.kernel.eval(r);
+                }
+            }
+            None => {
+                for (j, c) in self.centres.iter().enumerate() {
+                    rhs[(j, 0)] = self.kernel.eval((p - c).norm());
+                }
+            }
+        }
+        let row = self.poly_row(p);
+        for a in 0..4 {
+            rhs[(n + a, 0)] = row[a];
+        }
+        // The system is symmetric, so Aᵀz = row(p) is the same solve.
+        self.solve_kkt(&mut rhs);
+        let weights = (0..n).map(|j| (j, rhs[(j, 0)])).filter(|&(_, w)| w != 0.0).collect();
+        ParamWeights { n_nodes: n, weights, frame: Matrix3::identity() }
+    }
+}
