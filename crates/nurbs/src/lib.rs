@@ -35,6 +35,7 @@ mod basis;
 mod curve;
 mod error;
 mod knots;
+mod project;
 mod surface;
 pub mod tol;
 
@@ -42,6 +43,7 @@ pub use basis::{basis_funs, ders_basis_funs};
 pub use curve::NurbsCurve;
 pub use error::{Error, Result};
 pub use knots::KnotVector;
+pub use project::{CurveProject, CurveProjection, Projection, SurfaceProject};
 pub use surface::{NurbsSurface, Side, SurfaceDerivs, SurfacePointD1};
 
 /// The vocabulary types of cadmorph (nalgebra).
