@@ -65,3 +65,11 @@ pub fn max_abs_diff(a: &[Point3<f64>], b: &[Point3<f64>]) -> f64 {
     assert_eq!(a.len(), b.len());
     a.iter().zip(b).map(|(p, q)| (p - q).amax()).fold(0.0, f64::max)
 }
+
+/// A full-precision value from `pygem_reference_points.txt` (PyGeM run on the same files).
+pub fn pygem_reference(name: &str) -> Point3<f64> {
+    let text = read_text("pygem_reference_points.txt");
+    let line = text.lines().find(|l| l.split_whitespace().next() == Some(name)).unwrap_or_else(|| panic!("no reference {name}"));
+    let v: Vec<f64> = line.split_whitespace().skip(1).map(|t| t.parse().unwrap()).collect();
+    Point3::new(v[0], v[1], v[2])
+}

@@ -1,0 +1,236 @@
+//! RBF: parity with PyGeM's cube and polyharmonic cases, `.prm` reading and writing, every
+//! kernel, conditioning errors, the sparse solver.
+
+mod common;
+
+use cadmorph_morph::math::{Point3, Vector3};
+use cadmorph_morph::rbf::{Kernel, RbfOptions, Solver};
+use cadmorph_morph::{prm, Deformation, Error, LinearInParameters, Parameters, Rbf, RbfParameters};
+use common::*;
+use rand::{Rng, SeedableRng};
+use rand_xorshift::XorShiftRng;
+
+fn cube_rbf() -> Rbf {
+    Rbf::from_parameters(&RbfParameters::from_prm(&read_text("parameters_rbf_cube.prm")).unwrap()).unwrap()
+}
+
+#[test]
+fn cube_weights_match_pygem() {
+    let rbf = cube_rbf();
+    let (shape, w) = read_npy("weights_rbf_cube.npy");
+    assert_eq!(shape, vec![12, 3]);
+    let ours = rbf.pygem_weights();
+    assert_eq!(ours.len(), 12);
+    for (i, row) in ours.iter().enumerate() {
+        for c in 0..3 {
+            let e = w[3 * i + c];
+            assert!((row[c] - e).abs() < PYGEM_MATCH, "weights[{i}][{c}]: {} vs {e}", row[c]);
+        }
+    }
+}
+
+#[test]
+fn cube_points_match_pygem() {
+    let rbf = cube_rbf();
+    let mut pts = cube_grid();
+    let original = pts.clone();
+    rbf.deform(&mut pts);
+    let expected = read_points("meshpoints_cube_mod_rbf.npy");
+    assert_eq!(expected.len(), 8000);
+    let err = max_abs_diff(&pts, &expected);
+    assert!(err < PYGEM_MATCH, "max deviation from PyGeM {err:e}");
+    assert!(max_abs_diff(&pts, &original) > 0.1);
+    for (p, q) in original.iter().zip(&pts).step_by(61) {
+        assert!((rbf.deform_point(p) - q).norm() < 1e-13);
+    }
+}
+
+#[test]
+fn polyharmonic_k4_point_17_matches_pygem() {
+    let params = RbfParameters::from_prm(&read_text("parameters_rbf_extra.prm")).unwrap();
+    assert_eq!(params.kernel, Kernel::Polyharmonic { radius: 0.5, k: 4 });
+    let rbf = Rbf::from_parameters(&params).unwrap();
+    let p = rbf.deform_point(&cube_grid()[17]);
+    let full = pygem_reference("rbf_extra_point_17");
+    assert!((p - full).amax() < PYGEM_MATCH, "{p} vs {full}");
+    // The 7-digit value in PyGeM's tests/test_rbf.py.
+    let printed = Point3::new(8.947368e-01, 5.353524e-17, 8.845331e-03);
+    assert!((p - printed).amax() < 1e-6);
+    let mut batch = cube_grid();
+    rbf.deform(&mut batch);
+    assert!((batch[17] - full).amax() < PYGEM_MATCH);
+}
+
+#[test]
+fn default_file_is_identity_and_radius_is_read() {
+    let params = RbfParameters::from_prm(&read_text("parameters_rbf_default.prm")).unwrap();
+    assert_eq!(params.kernel, Kernel::Gaussian { radius: 0.5 });
+    let rbf = Rbf::from_parameters(&params).unwrap();
+    let pts = cube_grid();
+    assert!(max_abs_diff(&rbf.deformed(&pts), &pts) < 1e-14);
+    let radius = RbfParameters::from_prm(&read_text("parameters_rbf_radius.prm")).unwrap();
+    assert_eq!(radius.kernel.radius(), 2.0);
+}
+
+#[test]
+fn bugged_files_are_rejected_with_the_line() {
+    match RbfParameters::from_prm(&read_text("parameters_rbf_bugged_01.prm")) {
+        Err(Error::CountMismatch { line, expected: 8, found: 9, .. }) => assert_eq!(line, 30),
+        other => panic!("{other:?}"),
+    }
+    match prm::read(&read_text("parameters_rbf_bugged_02.prm")) {
+        Err(e @ Error::UnknownKernel { line: 9, .. }) => assert!(e.to_string().contains("gaussian_splines")),
+        other => panic!("{other:?}"),
+    }
+    let good = read_text("parameters_rbf_extra.prm");
+    let bad_k = good.replace("k: 4", "k: four");
+    assert!(matches!(RbfParameters::from_prm(&bad_k), Err(Error::Syntax { line: 16, .. })));
+    let extra = good.replace("k: 4", "q: 4");
+    assert!(matches!(RbfParameters::from_prm(&extra), Err(Error::UnknownParameter { line: 16, .. })));
+    let gauss_k = good.replace("polyharmonic_spline", "gaussian_spline");
+    assert!(matches!(RbfParameters::from_prm(&gauss_k), Err(Error::UnknownParameter { line: 16, .. })));
+    let short_row = good.replace("1.0   1.0   2.0", "1.0   2.0");
+    assert!(matches!(RbfParameters::from_prm(&short_row), Err(Error::Syntax { line: 39, .. })));
+    let neg = good.replace("radius: 0.5", "radius: -0.5");
+    assert!(matches!(RbfParameters::from_prm(&neg), Err(Error::InvalidParameter { line: Some(13), .. })));
+    let no_cp = good.replace("[Control points]", "[Control]");
+    assert!(matches!(RbfParameters::from_prm(&no_cp), Err(Error::MissingSection { section: "Control points" })));
+}
+
+#[test]
+fn writer_matches_pygem_files_byte_for_byte() {
+    let cube = RbfParameters::from_prm(&read_text("parameters_rbf_cube.prm")).unwrap();
+    assert_eq!(cube.to_prm(), read_text("parameters_rbf_cube_out_true.prm"));
+    for name in ["parameters_rbf_default.prm", "parameters_rbf_extra.prm", "parameters_rbf_cube_out_true.prm"] {
+        let text = read_text(name);
+        let p = RbfParameters::from_prm(&text).unwrap();
+        assert_eq!(p.to_prm(), text, "{name}");
+        assert!(matches!(Parameters::from_prm(&text).unwrap(), Parameters::Rbf(_)));
+    }
+}
+
+fn random_points(n: usize, seed: u64) -> Vec<Point3<f64>> {
+    let mut rng = XorShiftRng::seed_from_u64(seed);
+    (0..n).map(|_| Point3::new(rng.gen(), rng.gen(), rng.gen())).collect()
+}
+
+fn random_moves(n: usize, seed: u64, scale: f64) -> Vec<Vector3<f64>> {
+    let mut rng = XorShiftRng::seed_from_u64(seed);
+    (0..n).map(|_| Vector3::new(rng.gen::<f64>() - 0.5, rng.gen::<f64>() - 0.5, rng.gen::<f64>() - 0.5) * scale).collect()
+}
+
+/// PyGeM solves this silently and misses its own control points by 4.0; we refuse it.
+#[test]
+fn gaussian_with_huge_radius_is_ill_conditioned() {
+    let c = random_points(1000, 1);
+    let d = random_moves(1000, 2, 0.1);
+    match Rbf::try_new(&c, &d, Kernel::Gaussian { radius: 0.5 }) {
+        Err(Error::IllConditioned { condition, .. }) | Err(Error::SingularSystem { condition }) => assert!(condition > 1e12, "{condition:e}"),
+        other => panic!("expected a conditioning error, got {:?}", other.map(|r| r.condition())),
+    }
+}
+
+#[test]
+fn duplicate_or_coplanar_centres_are_singular() {
+    let mut c = random_points(20, 3);
+    c[7] = c[3];
+    let d = random_moves(20, 4, 0.1);
+    for kernel in [Kernel::ThinPlate { radius: 0.5, k: 2 }, Kernel::MultiQuadratic { radius: 0.5 }, Kernel::WendlandC2 { support: 0.8 }] {
+        for solver in [Solver::Dense, Solver::Sparse] {
+            if solver == Solver::Sparse && kernel.support().is_none() {
+                continue;
+            }
+            let e = Rbf::try_new_with(&c, &d, kernel, RbfOptions { solver, ..Default::default() }).unwrap_err();
+            assert!(matches!(e, Error::SingularSystem { .. }), "{kernel:?} {solver:?}: {e}");
+        }
+    }
+    // All centres in the plane z = 0: the linear term is undetermined.
+    let flat: Vec<Point3<f64>> = random_points(20, 5).into_iter().map(|p| Point3::new(p.x, p.y, 0.0)).collect();
+    let e = Rbf::try_new(&flat, &d, Kernel::MultiQuadratic { radius: 0.5 }).unwrap_err();
+    assert!(matches!(e, Error::SingularSystem { .. } | Error::IllConditioned { .. }), "{e}");
+    assert!(matches!(Rbf::try_new(&c[..3], &d[..3], Kernel::MultiQuadratic { radius: 0.5 }), Err(Error::CountMismatch { .. })));
+    assert!(matches!(Rbf::try_new(&c, &d[..5], Kernel::MultiQuadratic { radius: 0.5 }), Err(Error::CountMismatch { .. })));
+    assert!(matches!(Rbf::try_new(&c, &d, Kernel::Gaussian { radius: 0.0 }), Err(Error::InvalidParameter { .. })));
+}
+
+#[test]
+fn sparse_and_dense_solvers_agree() {
+    let c = random_points(400, 6);
+    let d = random_moves(400, 7, 0.05);
+    for kernel in [Kernel::WendlandC2 { support: 0.35 }, Kernel::WendlandC4 { support: 0.35 }, Kernel::BeckertWendlandC2 { radius: 0.35 }] {
+        let sparse = Rbf::try_new_with(&c, &d, kernel, RbfOptions { solver: Solver::Sparse, ..Default::default() }).unwrap();
+        assert!(sparse.is_sparse());
+        let dense = Rbf::try_new_with(&c, &d, kernel, RbfOptions { solver: Solver::Dense, ..Default::default() }).unwrap();
+        assert!(!dense.is_sparse());
+        let probe = random_points(300, 8);
+        let a = sparse.deformed(&probe);
+        let b = dense.deformed(&probe);
+        assert!(max_abs_diff(&a, &b) < 1e-10, "{kernel:?}: {:e}", max_abs_diff(&a, &b));
+        // Interpolation at the centres.
+        let moved = sparse.deformed(&c);
+        for i in (0..c.len()).step_by(37) {
+            assert!((moved[i] - (c[i] + d[i])).norm() < 1e-10);
+        }
+    }
+    // Auto picks the sparse solver for many centres of a compact kernel.
+    let c = random_points(1200, 15);
+    let auto = Rbf::try_new(&c, &random_moves(1200, 16, 0.05), Kernel::WendlandC2 { support: 0.15 }).unwrap();
+    assert!(auto.is_sparse());
+    assert!(Rbf::try_new_with(&c, &random_moves(1200, 16, 0.05), Kernel::ThinPlate { radius: 0.5, k: 2 }, RbfOptions { solver: Solver::Sparse, ..Default::default() }).is_err());
+}
+
+#[test]
+fn jacobians_match_finite_differences() {
+    let c = random_points(40, 9);
+    let d = random_moves(40, 10, 0.1);
+    let probe = random_points(10, 11);
+    let h = 1e-5;
+    for kernel in [
+        Kernel::Gaussian { radius: 0.7 },
+        Kernel::MultiQuadratic { radius: 0.5 },
+        Kernel::InverseMultiQuadratic { radius: 0.5 },
+        Kernel::ThinPlate { radius: 0.5, k: 2 },
+        Kernel::Polyharmonic { radius: 0.5, k: 3 },
+        Kernel::BeckertWendlandC2 { radius: 0.9 },
+        Kernel::WendlandC2 { support: 0.9 },
+        Kernel::WendlandC4 { support: 0.9 },
+    ] {
+        let rbf = Rbf::try_new(&c, &d, kernel).unwrap();
+        for p in &probe {
+            let j = rbf.jacobian(p).unwrap();
+            for a in 0..3 {
+                let mut e = Vector3::zeros();
+                e[a] = h;
+                let fd = (rbf.deform_point(&(p + e)) - rbf.deform_point(&(p - e))) / (2.0 * h);
+                assert!((fd - j.column(a)).norm() < 1e-6 * (1.0 + fd.norm()), "{kernel:?}");
+            }
+        }
+        // Parameter Jacobian: φ is exactly p + J θ.
+        let theta = rbf.params();
+        for p in probe.iter().take(3) {
+            let jac = rbf.param_jacobian(p);
+            let lin = p.coords + &jac * nalgebra::DVector::from_vec(theta.clone());
+            assert!((rbf.deform_point(p).coords - lin).norm() < 1e-9, "{kernel:?}");
+        }
+    }
+    // A kernel with a corner at its centres has no Jacobian there.
+    let rbf = Rbf::try_new(&c, &d, Kernel::Polyharmonic { radius: 0.5, k: 1 }).unwrap();
+    assert!(rbf.jacobian(&c[0]).is_none());
+    assert!(rbf.jacobian(&probe[0]).is_some());
+}
+
+#[test]
+fn set_params_resolves_with_stored_factorisation() {
+    let c = random_points(300, 12);
+    for kernel in [Kernel::ThinPlate { radius: 0.5, k: 2 }, Kernel::WendlandC2 { support: 0.4 }] {
+        let options = RbfOptions { solver: if kernel.support().is_some() { Solver::Sparse } else { Solver::Dense }, ..Default::default() };
+        let mut rbf = Rbf::try_new_with(&c, &vec![Vector3::zeros(); 300], kernel, options).unwrap();
+        let d = random_moves(300, 13, 0.02);
+        let theta: Vec<f64> = (0..3).flat_map(|k| d.iter().map(move |v| v[k])).collect();
+        rbf.set_params(&theta).unwrap();
+        let fresh = Rbf::try_new_with(&c, &d, kernel, options).unwrap();
+        let probe = random_points(100, 14);
+        assert!(max_abs_diff(&rbf.deformed(&probe), &fresh.deformed(&probe)) < 1e-11);
+        assert!(rbf.set_params(&theta[1..]).is_err());
+    }
+}
