@@ -37,6 +37,7 @@ mod error;
 mod knots;
 mod project;
 mod surface;
+mod tessellate;
 pub mod tol;
 
 pub use basis::{basis_funs, ders_basis_funs};
@@ -45,6 +46,7 @@ pub use error::{Error, Result};
 pub use knots::KnotVector;
 pub use project::{CurveProject, CurveProjection, Projection, SurfaceProject};
 pub use surface::{NurbsSurface, Side, SurfaceDerivs, SurfacePointD1};
+pub use tessellate::{Aabb, Mesh};
 
 /// The vocabulary types of cadmorph (nalgebra).
 pub mod math {
