@@ -107,10 +107,7 @@ mod tests {
 
     #[test]
     fn inverse_composes_to_identity() {
-        let a = Affine::new(
-            Matrix3::new(2.0, 0.1, 0.0, 0.0, 1.0, 0.3, 0.2, 0.0, 3.0),
-            Vector3::new(1.0, -2.0, 0.5),
-        );
+        let a = Affine::new(Matrix3::new(2.0, 0.1, 0.0, 0.0, 1.0, 0.3, 0.2, 0.0, 3.0), Vector3::new(1.0, -2.0, 0.5));
         let b = a.try_inverse().unwrap();
         let p = Point3::new(0.3, 0.7, -1.1);
         assert!((b.deform_point(&a.deform_point(&p)) - p).norm() < 1e-14);

@@ -214,12 +214,7 @@ pub trait LinearInParameters: Deformation {
 /// Checks a new parameter vector: length and finiteness.
 pub(crate) fn check_params(theta: &[f64], expected: usize) -> crate::Result<()> {
     if theta.len() != expected {
-        return Err(crate::Error::CountMismatch {
-            line: 0,
-            what: "parameters",
-            expected,
-            found: theta.len(),
-        });
+        return Err(crate::Error::CountMismatch { line: 0, what: "parameters", expected, found: theta.len() });
     }
     if let Some(&v) = theta.iter().find(|v| !v.is_finite()) {
         return Err(crate::Error::InvalidParameter {

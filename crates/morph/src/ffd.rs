@@ -181,7 +181,12 @@ impl Ffd {
     /// # Errors
     ///
     /// As [`Ffd::try_new`].
-    pub fn set_box(&mut self, box_origin: Point3<f64>, box_length: Vector3<f64>, rot_angle_deg: Vector3<f64>) -> Result<()> {
+    pub fn set_box(
+        &mut self,
+        box_origin: Point3<f64>,
+        box_length: Vector3<f64>,
+        rot_angle_deg: Vector3<f64>,
+    ) -> Result<()> {
         for &l in box_length.iter() {
             if !(l.is_finite() && l > 0.0) {
                 return Err(Error::InvalidParameter {
@@ -194,12 +199,22 @@ impl Ffd {
         }
         for &v in box_origin.iter() {
             if !v.is_finite() {
-                return Err(Error::InvalidParameter { line: None, name: "box origin", value: v, reason: "must be finite" });
+                return Err(Error::InvalidParameter {
+                    line: None,
+                    name: "box origin",
+                    value: v,
+                    reason: "must be finite",
+                });
             }
         }
         for &v in rot_angle_deg.iter() {
             if !v.is_finite() {
-                return Err(Error::InvalidParameter { line: None, name: "rotation angle", value: v, reason: "must be finite" });
+                return Err(Error::InvalidParameter {
+                    line: None,
+                    name: "rotation angle",
+                    value: v,
+                    reason: "must be finite",
+                });
             }
         }
         let r = rotation_matrix(&rot_angle_deg);
@@ -278,11 +293,8 @@ impl Ffd {
         for i in 0..l {
             for j in 0..m {
                 for k in 0..n {
-                    let mut u = Vector3::new(
-                        i as f64 / (l - 1) as f64,
-                        j as f64 / (m - 1) as f64,
-                        k as f64 / (n - 1) as f64,
-                    );
+                    let mut u =
+                        Vector3::new(i as f64 / (l - 1) as f64, j as f64 / (m - 1) as f64, k as f64 / (n - 1) as f64);
                     if deformed {
                         u += Vector3::from(self.mu.get(i, j, k));
                     }
@@ -385,7 +397,12 @@ impl Ffd {
 const LANES: usize = 8;
 
 /// `Σₗₘₙ bx[l] by[m] bz[n] μₗₘₙ` for `LANES` points at once (lane = point).
-fn lattice_sum_lanes(mu: &Displacements, bx: &[[f64; LANES]], by: &[[f64; LANES]], bz: &[[f64; LANES]]) -> [[f64; LANES]; 3] {
+fn lattice_sum_lanes(
+    mu: &Displacements,
+    bx: &[[f64; LANES]],
+    by: &[[f64; LANES]],
+    bz: &[[f64; LANES]],
+) -> [[f64; LANES]; 3] {
     pulp::Arch::new().dispatch(
         #[inline(always)]
         || {
@@ -612,7 +629,12 @@ impl BoundFfd {
     /// another lattice shape.
     pub fn deform_with(&self, mu: &Displacements, out: &mut [Point3<f64>]) -> Result<()> {
         if out.len() != self.points.len() {
-            return Err(Error::CountMismatch { line: 0, what: "output points", expected: self.points.len(), found: out.len() });
+            return Err(Error::CountMismatch {
+                line: 0,
+                what: "output points",
+                expected: self.points.len(),
+                found: out.len(),
+            });
         }
         if mu.shape != self.shape {
             let n = self.shape[0] * self.shape[1] * self.shape[2];

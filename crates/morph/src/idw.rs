@@ -90,21 +90,41 @@ impl Idw {
             return Err(Error::CountMismatch { line: 0, what: "control points", expected: 1, found: 0 });
         }
         if centres.len() != displacements.len() {
-            return Err(Error::CountMismatch { line: 0, what: "displacements (one per control point)", expected: centres.len(), found: displacements.len() });
+            return Err(Error::CountMismatch {
+                line: 0,
+                what: "displacements (one per control point)",
+                expected: centres.len(),
+                found: displacements.len(),
+            });
         }
         for v in centres.iter().flat_map(|p| p.iter()).chain(displacements.iter().flat_map(|d| d.iter())) {
             if !v.is_finite() {
-                return Err(Error::InvalidParameter { line: None, name: "control point", value: *v, reason: "must be finite" });
+                return Err(Error::InvalidParameter {
+                    line: None,
+                    name: "control point",
+                    value: *v,
+                    reason: "must be finite",
+                });
             }
         }
         let tree = match variant {
             IdwVariant::Paper { power, cutoff } => {
                 if !(power.is_finite() && power > 0.0) {
-                    return Err(Error::InvalidParameter { line: None, name: "power", value: power, reason: "must be positive and finite" });
+                    return Err(Error::InvalidParameter {
+                        line: None,
+                        name: "power",
+                        value: power,
+                        reason: "must be positive and finite",
+                    });
                 }
                 match cutoff {
                     Some(eps) if !(eps.is_finite() && eps > 0.0) => {
-                        return Err(Error::InvalidParameter { line: None, name: "cutoff", value: eps, reason: "must be positive and finite" });
+                        return Err(Error::InvalidParameter {
+                            line: None,
+                            name: "cutoff",
+                            value: eps,
+                            reason: "must be positive and finite",
+                        });
                     }
                     Some(_) => {
                         let pts: Vec<[f64; 3]> = centres.iter().map(|p| [p.x, p.y, p.z]).collect();
@@ -115,7 +135,12 @@ impl Idw {
             }
             IdwVariant::PyGem { power } => {
                 if power == 0 {
-                    return Err(Error::InvalidParameter { line: None, name: "power", value: 0.0, reason: "Minkowski order must be at least 1" });
+                    return Err(Error::InvalidParameter {
+                        line: None,
+                        name: "power",
+                        value: 0.0,
+                        reason: "Minkowski order must be at least 1",
+                    });
                 }
                 None
             }
@@ -141,7 +166,12 @@ impl Idw {
     /// As [`Idw::try_new`].
     pub fn from_parameters(params: &IdwParameters) -> Result<Idw> {
         if params.original.len() != params.deformed.len() {
-            return Err(Error::CountMismatch { line: 0, what: "deformed control points", expected: params.original.len(), found: params.deformed.len() });
+            return Err(Error::CountMismatch {
+                line: 0,
+                what: "deformed control points",
+                expected: params.original.len(),
+                found: params.deformed.len(),
+            });
         }
         let d: Vec<Vector3<f64>> = params.original.iter().zip(&params.deformed).map(|(a, b)| b - a).collect();
         Idw::try_new(&params.original, &d, params.variant)
@@ -224,7 +254,7 @@ impl Idw {
                 pz[lane] = p.z;
             }
             let sums = match self.variant {
-                IdwVariant::Paper { power, .. } if power == 2.0 => self.sums(&px, &py, &pz, |d2| 1.0 / d2),
+                IdwVariant::Paper { power: 2.0, .. } => self.sums(&px, &py, &pz, |d2| 1.0 / d2),
                 IdwVariant::Paper { power, .. } => self.sums(&px, &py, &pz, |d2| inv_pow_sq(d2, power)),
                 IdwVariant::PyGem { power: 2 } => self.sums(&px, &py, &pz, |d2| 1.0 / d2.sqrt()),
                 IdwVariant::PyGem { .. } => {

@@ -58,6 +58,7 @@ use crate::{Deformation, Displacements, Error, Ffd, Idw, Rbf, Result};
 /// # Ok::<(), cadmorph_morph::Error>(())
 /// ```
 #[derive(Debug, Clone, PartialEq)]
+#[allow(clippy::large_enum_variant)] // built once per file; boxing would only cost an indirection
 pub enum Parameters {
     /// Free-form deformation.
     Ffd(Ffd),
@@ -126,7 +127,9 @@ fn line_of(text: &str, key: &str) -> usize {
 fn at_line(e: Error, line: usize) -> Error {
     match e {
         Error::CountMismatch { line: 0, what, expected, found } => Error::CountMismatch { line, what, expected, found },
-        Error::InvalidParameter { line: None, name, value, reason } => Error::InvalidParameter { line: Some(line), name, value, reason },
+        Error::InvalidParameter { line: None, name, value, reason } => {
+            Error::InvalidParameter { line: Some(line), name, value, reason }
+        }
         other => other,
     }
 }
@@ -159,19 +162,38 @@ impl Parameters {
         })?;
         let count = doc.ffd.is_some() as usize + doc.rbf.is_some() as usize + doc.idw.is_some() as usize;
         if count != 1 {
-            return Err(Error::Toml { line: 0, column: 0, message: format!("expected exactly one of the tables [ffd], [rbf], [idw], found {count}") });
+            return Err(Error::Toml {
+                line: 0,
+                column: 0,
+                message: format!("expected exactly one of the tables [ffd], [rbf], [idw], found {count}"),
+            });
         }
         if let Some(f) = doc.ffd {
-            let mut ffd = Ffd::try_new(f.n_control_points, Point3::from(f.box_origin), Vector3::from(f.box_length), Vector3::from(f.rot_angle))
-                .map_err(|e| at_line(e, line_of(text, "n_control_points").max(line_of(text, "box_length"))))?;
+            let mut ffd = Ffd::try_new(
+                f.n_control_points,
+                Point3::from(f.box_origin),
+                Vector3::from(f.box_length),
+                Vector3::from(f.rot_angle),
+            )
+            .map_err(|e| at_line(e, line_of(text, "n_control_points").max(line_of(text, "box_length"))))?;
             let n = f.n_control_points.iter().product::<usize>();
             let fill = |v: Vec<f64>| if v.is_empty() { vec![0.0; n] } else { v };
             for (key, v) in [("mu_x", &f.mu_x), ("mu_y", &f.mu_y), ("mu_z", &f.mu_z)] {
                 if !v.is_empty() && v.len() != n {
-                    return Err(Error::CountMismatch { line: line_of(text, key), what: "mu values (L·M·N)", expected: n, found: v.len() });
+                    return Err(Error::CountMismatch {
+                        line: line_of(text, key),
+                        what: "mu values (L·M·N)",
+                        expected: n,
+                        found: v.len(),
+                    });
                 }
                 if let Some(&bad) = v.iter().find(|x| !x.is_finite()) {
-                    return Err(Error::InvalidParameter { line: Some(line_of(text, key)), name: "mu", value: bad, reason: "must be finite" });
+                    return Err(Error::InvalidParameter {
+                        line: Some(line_of(text, key)),
+                        name: "mu",
+                        value: bad,
+                        reason: "must be finite",
+                    });
                 }
             }
             let mu = Displacements::try_from_arrays(f.n_control_points, fill(f.mu_x), fill(f.mu_y), fill(f.mu_z))?;
@@ -195,7 +217,8 @@ impl Parameters {
             if r.k.is_some() && !uses_k {
                 return Err(Error::UnknownParameter { line: line_of(text, "k"), name: "k".into(), context: r.kernel });
             }
-            let kernel = Kernel::from_name(&r.kernel, r.radius, r.k).ok_or_else(|| Error::UnknownKernel { line: line_of(text, "kernel"), name: r.kernel.clone() })?;
+            let kernel = Kernel::from_name(&r.kernel, r.radius, r.k)
+                .ok_or_else(|| Error::UnknownKernel { line: line_of(text, "kernel"), name: r.kernel.clone() })?;
             kernel.validate().map_err(|e| at_line(e, line_of(text, "radius")))?;
             return Ok(Parameters::Rbf(RbfParameters {
                 kernel,
@@ -209,18 +232,35 @@ impl Parameters {
             "paper" => IdwVariant::Paper { power: i.power, cutoff: i.cutoff },
             "pygem" => {
                 if i.cutoff.is_some() {
-                    return Err(Error::UnknownParameter { line: line_of(text, "cutoff"), name: "cutoff".into(), context: "the pygem IDW variant".into() });
+                    return Err(Error::UnknownParameter {
+                        line: line_of(text, "cutoff"),
+                        name: "cutoff".into(),
+                        context: "the pygem IDW variant".into(),
+                    });
                 }
                 if !(i.power >= 1.0 && i.power <= 64.0 && i.power.fract() == 0.0) {
-                    return Err(Error::InvalidParameter { line: Some(line_of(text, "power")), name: "power", value: i.power, reason: "the pygem variant needs an integer power in 1..=64" });
+                    return Err(Error::InvalidParameter {
+                        line: Some(line_of(text, "power")),
+                        name: "power",
+                        value: i.power,
+                        reason: "the pygem variant needs an integer power in 1..=64",
+                    });
                 }
                 IdwVariant::PyGem { power: i.power as u32 }
             }
             other => {
-                return Err(Error::Syntax { line: line_of(text, "variant"), expected: "variant \"paper\" or \"pygem\"", found: other.to_string() });
+                return Err(Error::Syntax {
+                    line: line_of(text, "variant"),
+                    expected: "variant \"paper\" or \"pygem\"",
+                    found: other.to_string(),
+                });
             }
         };
-        let params = IdwParameters { variant, original: points(&i.original_control_points), deformed: points(&i.deformed_control_points) };
+        let params = IdwParameters {
+            variant,
+            original: points(&i.original_control_points),
+            deformed: points(&i.deformed_control_points),
+        };
         // Validate now (power, cutoff, finiteness) so that a bad file fails where it is read.
         Idw::from_parameters(&params).map_err(|e| at_line(e, line_of(text, "power")))?;
         Ok(Parameters::Idw(params))

@@ -61,11 +61,8 @@ fn reads_pygem_sphere_parameters() {
     assert_eq!(ffd.mu().get(0, 1, 1)[2], -0.456229852);
     // test_read_parameters_rotation_matrix
     let r = ffd.rotation();
-    let expected = [
-        [0.98162718, 0.0, 0.190809],
-        [0.06619844, 0.93788893, -0.34056147],
-        [-0.17895765, 0.34693565, 0.92065727],
-    ];
+    let expected =
+        [[0.98162718, 0.0, 0.190809], [0.06619844, 0.93788893, -0.34056147], [-0.17895765, 0.34693565, 0.92065727]];
     for i in 0..3 {
         for j in 0..3 {
             assert!((r[(i, j)] - expected[i][j]).abs() < 1e-8, "R[{i}][{j}] = {}", r[(i, j)]);
@@ -118,7 +115,16 @@ fn face_points_move_like_neighbours_issue_272() {
         Vector3::new(0.6, 0.4, 1.0),
     ] {
         let on = o + frame * u;
-        let inside = o + frame * u.map(|c| if c >= 1.0 { c - h } else if c <= 0.0 { c + h } else { c });
+        let inside = o + frame
+            * u.map(|c| {
+                if c >= 1.0 {
+                    c - h
+                } else if c <= 0.0 {
+                    c + h
+                } else {
+                    c
+                }
+            });
         let d_on = ffd.deform_point(&on) - on;
         let d_in = ffd.deform_point(&inside) - inside;
         assert!((d_on - d_in).norm() < 1e-6, "{u}: {d_on} vs {d_in}");
@@ -175,15 +181,40 @@ fn param_jacobian_gives_exact_linear_model() {
 #[test]
 fn malformed_ffd_files_name_the_line() {
     let good = read_text("parameters_sphere.prm");
-    let cases: Vec<(String, Box<dyn Fn(&Error) -> bool>)> = vec![
-        (good.replace("n control points x: 3", "n control points x: three"), Box::new(|e| matches!(e, Error::Syntax { line: 7, .. }))),
-        (good.replace("n control points x: 3", "n control points x: 1"), Box::new(|e| matches!(e, Error::InvalidParameter { line: Some(7), .. }))),
-        (good.replace("box length y: 90.0\n", ""), Box::new(|e| matches!(e, Error::MissingKey { key: "box length y", .. }))),
-        (good.replace("box length x: 45.0", "box length x: -45.0"), Box::new(|e| matches!(e, Error::InvalidParameter { line: Some(14), .. }))),
-        (good.replace("parameter x: 0   0   0    .2", "parameter x: 3   0   0    .2"), Box::new(|e| matches!(e, Error::IndexOutOfRange { line: 48, index: [3, 0, 0], .. }))),
-        (good.replace("parameter x: 0   0   0    .2", "parameter x: 0   0   0"), Box::new(|e| matches!(e, Error::Syntax { line: 48, .. }))),
-        (good.replace("             0   0   1   0.0\n", "             0   0   0   0.0\n"), Box::new(|e| matches!(e, Error::Duplicate { line: 49, first: 48, .. }))),
-        (good.replace("[Parameters weights]", "[Parameter weights]"), Box::new(|e| matches!(e, Error::MissingSection { section: "Parameters weights" }))),
+    type Check = Box<dyn Fn(&Error) -> bool>;
+    let cases: Vec<(String, Check)> = vec![
+        (
+            good.replace("n control points x: 3", "n control points x: three"),
+            Box::new(|e| matches!(e, Error::Syntax { line: 7, .. })),
+        ),
+        (
+            good.replace("n control points x: 3", "n control points x: 1"),
+            Box::new(|e| matches!(e, Error::InvalidParameter { line: Some(7), .. })),
+        ),
+        (
+            good.replace("box length y: 90.0\n", ""),
+            Box::new(|e| matches!(e, Error::MissingKey { key: "box length y", .. })),
+        ),
+        (
+            good.replace("box length x: 45.0", "box length x: -45.0"),
+            Box::new(|e| matches!(e, Error::InvalidParameter { line: Some(14), .. })),
+        ),
+        (
+            good.replace("parameter x: 0   0   0    .2", "parameter x: 3   0   0    .2"),
+            Box::new(|e| matches!(e, Error::IndexOutOfRange { line: 48, index: [3, 0, 0], .. })),
+        ),
+        (
+            good.replace("parameter x: 0   0   0    .2", "parameter x: 0   0   0"),
+            Box::new(|e| matches!(e, Error::Syntax { line: 48, .. })),
+        ),
+        (
+            good.replace("             0   0   1   0.0\n", "             0   0   0   0.0\n"),
+            Box::new(|e| matches!(e, Error::Duplicate { line: 49, first: 48, .. })),
+        ),
+        (
+            good.replace("[Parameters weights]", "[Parameter weights]"),
+            Box::new(|e| matches!(e, Error::MissingSection { section: "Parameters weights" })),
+        ),
         ("garbage".to_string(), Box::new(|e| matches!(e, Error::Syntax { line: 1, .. }))),
         (String::new(), Box::new(|e| matches!(e, Error::MissingSection { .. }))),
     ];

@@ -19,7 +19,9 @@ fn power_3_point_matches_pygem() {
     let printed = Point3::new(1.19541593, 1.36081491, 1.42095073); // tests/test_idw.py
     assert!((p - printed).amax() < 1e-8);
     // The paper's d⁻ᵖ weights give a different point: the variants really differ.
-    let paper = Idw::from_parameters(&IdwParameters { variant: IdwVariant::Paper { power: 3.0, cutoff: None }, ..params }).unwrap();
+    let paper =
+        Idw::from_parameters(&IdwParameters { variant: IdwVariant::Paper { power: 3.0, cutoff: None }, ..params })
+            .unwrap();
     assert!((paper.deform_point(&cube_grid()[7997]) - full).norm() > 1e-3);
 }
 
@@ -45,16 +47,29 @@ fn writer_matches_pygem_byte_for_byte() {
         assert_eq!(IdwParameters::from_prm(&p.to_prm().unwrap()).unwrap(), p);
         assert!(matches!(Parameters::from_prm(&text).unwrap(), Parameters::Idw(_)));
     }
-    let paper = IdwParameters { variant: IdwVariant::Paper { power: 2.0, cutoff: None }, original: vec![Point3::origin()], deformed: vec![Point3::origin()] };
+    let paper = IdwParameters {
+        variant: IdwVariant::Paper { power: 2.0, cutoff: None },
+        original: vec![Point3::origin()],
+        deformed: vec![Point3::origin()],
+    };
     assert!(paper.to_prm().is_err());
 }
 
 #[test]
 fn malformed_idw_files_name_the_line() {
     let good = read_text("parameters_idw_deform.prm");
-    assert!(matches!(IdwParameters::from_prm(&good.replace("power = 3", "power = 2.5")), Err(Error::Syntax { line: 6, .. })));
-    assert!(matches!(IdwParameters::from_prm(&good.replace("power = 3", "power = 0")), Err(Error::InvalidParameter { line: Some(6), .. })));
-    assert!(matches!(IdwParameters::from_prm(&good.replace("power = 3\n", "")), Err(Error::MissingKey { key: "power", .. })));
+    assert!(matches!(
+        IdwParameters::from_prm(&good.replace("power = 3", "power = 2.5")),
+        Err(Error::Syntax { line: 6, .. })
+    ));
+    assert!(matches!(
+        IdwParameters::from_prm(&good.replace("power = 3", "power = 0")),
+        Err(Error::InvalidParameter { line: Some(6), .. })
+    ));
+    assert!(matches!(
+        IdwParameters::from_prm(&good.replace("power = 3\n", "")),
+        Err(Error::MissingKey { key: "power", .. })
+    ));
     let extra = good.replace("1.5   1.6   1.7", "1.5   1.6   1.7\n                         2   2   2");
     assert!(matches!(IdwParameters::from_prm(&extra), Err(Error::CountMismatch { expected: 8, found: 9, .. })));
 }
@@ -88,7 +103,12 @@ fn jacobians_match_finite_differences() {
     let params = IdwParameters::from_prm(&read_text("parameters_idw_deform.prm")).unwrap();
     let probe = [Point3::new(0.3, 0.4, 0.5), Point3::new(0.9, 0.2, 0.7), Point3::new(0.5, 0.5, 0.45)];
     let h = 1e-6;
-    for variant in [IdwVariant::PyGem { power: 3 }, IdwVariant::PyGem { power: 2 }, IdwVariant::Paper { power: 2.0, cutoff: None }, IdwVariant::Paper { power: 2.0, cutoff: Some(0.9) }] {
+    for variant in [
+        IdwVariant::PyGem { power: 3 },
+        IdwVariant::PyGem { power: 2 },
+        IdwVariant::Paper { power: 2.0, cutoff: None },
+        IdwVariant::Paper { power: 2.0, cutoff: Some(0.9) },
+    ] {
         let idw = Idw::from_parameters(&IdwParameters { variant, ..params.clone() }).unwrap();
         for p in &probe {
             let j = idw.jacobian(p).unwrap();
@@ -103,7 +123,11 @@ fn jacobians_match_finite_differences() {
             assert!((idw.deform_point(p).coords - lin).norm() < 1e-14);
         }
     }
-    let idw = Idw::from_parameters(&IdwParameters { variant: IdwVariant::Paper { power: 2.0, cutoff: None }, ..params.clone() }).unwrap();
+    let idw = Idw::from_parameters(&IdwParameters {
+        variant: IdwVariant::Paper { power: 2.0, cutoff: None },
+        ..params.clone()
+    })
+    .unwrap();
     assert_eq!(idw.jacobian(&params.original[7]), Some(nalgebra::Matrix3::identity()));
     let idw = Idw::from_parameters(&params).unwrap();
     assert_eq!(idw.jacobian(&params.original[7]), None);

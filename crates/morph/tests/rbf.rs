@@ -116,7 +116,9 @@ fn random_points(n: usize, seed: u64) -> Vec<Point3<f64>> {
 
 fn random_moves(n: usize, seed: u64, scale: f64) -> Vec<Vector3<f64>> {
     let mut rng = XorShiftRng::seed_from_u64(seed);
-    (0..n).map(|_| Vector3::new(rng.gen::<f64>() - 0.5, rng.gen::<f64>() - 0.5, rng.gen::<f64>() - 0.5) * scale).collect()
+    (0..n)
+        .map(|_| Vector3::new(rng.gen::<f64>() - 0.5, rng.gen::<f64>() - 0.5, rng.gen::<f64>() - 0.5) * scale)
+        .collect()
 }
 
 /// PyGeM solves this silently and misses its own control points by 4.0; we refuse it.
@@ -125,7 +127,9 @@ fn gaussian_with_huge_radius_is_ill_conditioned() {
     let c = random_points(1000, 1);
     let d = random_moves(1000, 2, 0.1);
     match Rbf::try_new(&c, &d, Kernel::Gaussian { radius: 0.5 }) {
-        Err(Error::IllConditioned { condition, .. }) | Err(Error::SingularSystem { condition }) => assert!(condition > 1e12, "{condition:e}"),
+        Err(Error::IllConditioned { condition, .. }) | Err(Error::SingularSystem { condition }) => {
+            assert!(condition > 1e12, "{condition:e}")
+        }
         other => panic!("expected a conditioning error, got {:?}", other.map(|r| r.condition())),
     }
 }
@@ -135,7 +139,11 @@ fn duplicate_or_coplanar_centres_are_singular() {
     let mut c = random_points(20, 3);
     c[7] = c[3];
     let d = random_moves(20, 4, 0.1);
-    for kernel in [Kernel::ThinPlate { radius: 0.5, k: 2 }, Kernel::MultiQuadratic { radius: 0.5 }, Kernel::WendlandC2 { support: 0.8 }] {
+    for kernel in [
+        Kernel::ThinPlate { radius: 0.5, k: 2 },
+        Kernel::MultiQuadratic { radius: 0.5 },
+        Kernel::WendlandC2 { support: 0.8 },
+    ] {
         for solver in [Solver::Dense, Solver::Sparse] {
             if solver == Solver::Sparse && kernel.support().is_none() {
                 continue;
@@ -148,8 +156,14 @@ fn duplicate_or_coplanar_centres_are_singular() {
     let flat: Vec<Point3<f64>> = random_points(20, 5).into_iter().map(|p| Point3::new(p.x, p.y, 0.0)).collect();
     let e = Rbf::try_new(&flat, &d, Kernel::MultiQuadratic { radius: 0.5 }).unwrap_err();
     assert!(matches!(e, Error::SingularSystem { .. } | Error::IllConditioned { .. }), "{e}");
-    assert!(matches!(Rbf::try_new(&c[..3], &d[..3], Kernel::MultiQuadratic { radius: 0.5 }), Err(Error::CountMismatch { .. })));
-    assert!(matches!(Rbf::try_new(&c, &d[..5], Kernel::MultiQuadratic { radius: 0.5 }), Err(Error::CountMismatch { .. })));
+    assert!(matches!(
+        Rbf::try_new(&c[..3], &d[..3], Kernel::MultiQuadratic { radius: 0.5 }),
+        Err(Error::CountMismatch { .. })
+    ));
+    assert!(matches!(
+        Rbf::try_new(&c, &d[..5], Kernel::MultiQuadratic { radius: 0.5 }),
+        Err(Error::CountMismatch { .. })
+    ));
     assert!(matches!(Rbf::try_new(&c, &d, Kernel::Gaussian { radius: 0.0 }), Err(Error::InvalidParameter { .. })));
 }
 
@@ -157,10 +171,16 @@ fn duplicate_or_coplanar_centres_are_singular() {
 fn sparse_and_dense_solvers_agree() {
     let c = random_points(400, 6);
     let d = random_moves(400, 7, 0.05);
-    for kernel in [Kernel::WendlandC2 { support: 0.35 }, Kernel::WendlandC4 { support: 0.35 }, Kernel::BeckertWendlandC2 { radius: 0.35 }] {
-        let sparse = Rbf::try_new_with(&c, &d, kernel, RbfOptions { solver: Solver::Sparse, ..Default::default() }).unwrap();
+    for kernel in [
+        Kernel::WendlandC2 { support: 0.35 },
+        Kernel::WendlandC4 { support: 0.35 },
+        Kernel::BeckertWendlandC2 { radius: 0.35 },
+    ] {
+        let sparse =
+            Rbf::try_new_with(&c, &d, kernel, RbfOptions { solver: Solver::Sparse, ..Default::default() }).unwrap();
         assert!(sparse.is_sparse());
-        let dense = Rbf::try_new_with(&c, &d, kernel, RbfOptions { solver: Solver::Dense, ..Default::default() }).unwrap();
+        let dense =
+            Rbf::try_new_with(&c, &d, kernel, RbfOptions { solver: Solver::Dense, ..Default::default() }).unwrap();
         assert!(!dense.is_sparse());
         let probe = random_points(300, 8);
         let a = sparse.deformed(&probe);
@@ -176,7 +196,13 @@ fn sparse_and_dense_solvers_agree() {
     let c = random_points(1200, 15);
     let auto = Rbf::try_new(&c, &random_moves(1200, 16, 0.05), Kernel::WendlandC2 { support: 0.15 }).unwrap();
     assert!(auto.is_sparse());
-    assert!(Rbf::try_new_with(&c, &random_moves(1200, 16, 0.05), Kernel::ThinPlate { radius: 0.5, k: 2 }, RbfOptions { solver: Solver::Sparse, ..Default::default() }).is_err());
+    assert!(Rbf::try_new_with(
+        &c,
+        &random_moves(1200, 16, 0.05),
+        Kernel::ThinPlate { radius: 0.5, k: 2 },
+        RbfOptions { solver: Solver::Sparse, ..Default::default() }
+    )
+    .is_err());
 }
 
 #[test]
@@ -223,7 +249,10 @@ fn jacobians_match_finite_differences() {
 fn set_params_resolves_with_stored_factorisation() {
     let c = random_points(300, 12);
     for kernel in [Kernel::ThinPlate { radius: 0.5, k: 2 }, Kernel::WendlandC2 { support: 0.4 }] {
-        let options = RbfOptions { solver: if kernel.support().is_some() { Solver::Sparse } else { Solver::Dense }, ..Default::default() };
+        let options = RbfOptions {
+            solver: if kernel.support().is_some() { Solver::Sparse } else { Solver::Dense },
+            ..Default::default()
+        };
         let mut rbf = Rbf::try_new_with(&c, &vec![Vector3::zeros(); 300], kernel, options).unwrap();
         let d = random_moves(300, 13, 0.02);
         let theta: Vec<f64> = (0..3).flat_map(|k| d.iter().map(move |v| v[k])).collect();

@@ -91,11 +91,10 @@ impl Ini {
                 }
             }
             if trimmed.starts_with('[') {
-                let name = trimmed
-                    .strip_prefix('[')
-                    .and_then(|s| s.strip_suffix(']'))
-                    .filter(|s| !s.is_empty())
-                    .ok_or_else(|| Error::Syntax { line, expected: "a section header `[name]`", found: trimmed.to_string() })?;
+                let name =
+                    trimmed.strip_prefix('[').and_then(|s| s.strip_suffix(']')).filter(|s| !s.is_empty()).ok_or_else(
+                        || Error::Syntax { line, expected: "a section header `[name]`", found: trimmed.to_string() },
+                    )?;
                 if let Some(first) = sections.iter().find(|s| s.name == name) {
                     return Err(Error::Duplicate { line, first: first.line, what: format!("section [{name}]") });
                 }
@@ -104,17 +103,27 @@ impl Ini {
                 continue;
             }
             let Some(section) = sections.last_mut() else {
-                return Err(Error::Syntax { line, expected: "a section header before the first key", found: trimmed.to_string() });
+                return Err(Error::Syntax {
+                    line,
+                    expected: "a section header before the first key",
+                    found: trimmed.to_string(),
+                });
             };
-            let cut = trimmed
-                .find([':', '='])
-                .ok_or_else(|| Error::Syntax { line, expected: "`key: value` or `key = value`", found: trimmed.to_string() })?;
+            let cut = trimmed.find([':', '=']).ok_or_else(|| Error::Syntax {
+                line,
+                expected: "`key: value` or `key = value`",
+                found: trimmed.to_string(),
+            })?;
             let key = trimmed[..cut].trim().to_lowercase();
             if key.is_empty() {
                 return Err(Error::Syntax { line, expected: "a key before the delimiter", found: trimmed.to_string() });
             }
             if let Some(first) = section.get(&key) {
-                return Err(Error::Duplicate { line, first: first.line, what: format!("key {key:?} in [{}]", section.name) });
+                return Err(Error::Duplicate {
+                    line,
+                    first: first.line,
+                    what: format!("key {key:?} in [{}]", section.name),
+                });
             }
             let value = trimmed[cut + 1..].trim().to_string();
             section.entries.push(Entry { key, line, lines: vec![ValueLine { line, text: value }] });
@@ -158,7 +167,11 @@ pub(crate) fn parse_finite(text: &str, line: usize, name: &'static str) -> Resul
 pub(crate) fn parse_usize(text: &str, line: usize) -> Result<usize> {
     let t = text.trim();
     let t = t.strip_prefix('+').unwrap_or(t);
-    t.parse::<usize>().map_err(|_| Error::Syntax { line, expected: "a non-negative integer", found: text.trim().to_string() })
+    t.parse::<usize>().map_err(|_| Error::Syntax {
+        line,
+        expected: "a non-negative integer",
+        found: text.trim().to_string(),
+    })
 }
 
 #[cfg(test)]

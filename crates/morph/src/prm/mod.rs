@@ -91,7 +91,12 @@ impl Ffd {
         s += "\n# rotation angle indicates the rotation angle around the x, y, and z axis of the FFD bounding box in degrees.\n";
         s += "# The rotation is done with respect to the box origin.\n";
         s += "# For example, to rotate the box by 2 deg along the z direction, use the following: rotation angle: 0., 0., 2.\n";
-        s += &format!("rotation angle x: {}\nrotation angle y: {}\nrotation angle z: {}\n", f(rot.x), f(rot.y), f(rot.z));
+        s += &format!(
+            "rotation angle x: {}\nrotation angle y: {}\nrotation angle z: {}\n",
+            f(rot.x),
+            f(rot.y),
+            f(rot.z)
+        );
         s += "\n\n[Parameters weights]\n";
         s += "# This section describes the weights of the FFD control points.\n";
         s += "# We adopt the following convention:\n";
@@ -106,7 +111,9 @@ impl Ffd {
         s += "# |    0    |    0    |    1    |  3.4   |\n";
         let mu = self.mu();
         for (axis, values) in [("x", &mu.x), ("y", &mu.y), ("z", &mu.z)] {
-            s += &format!("\n# parameter {axis} collects the displacements along {axis}, normalized with the box length {axis}.");
+            s += &format!(
+                "\n# parameter {axis} collects the displacements along {axis}, normalized with the box length {axis}."
+            );
             s += &format!("\nparameter {axis}:");
             let mut offset = 1;
             for i in 0..n[0] {
@@ -129,7 +136,12 @@ fn ffd_from_ini(ini: &Ini) -> Result<Ffd> {
         let v = bx.require(FFD_BOX, key)?.scalar()?;
         let n = parse_usize(&v.text, v.line)?;
         if n < 2 {
-            return Err(Error::InvalidParameter { line: Some(v.line), name: "n control points", value: n as f64, reason: "each lattice dimension must be at least 2" });
+            return Err(Error::InvalidParameter {
+                line: Some(v.line),
+                name: "n control points",
+                value: n as f64,
+                reason: "each lattice dimension must be at least 2",
+            });
         }
         Ok(n)
     };
@@ -142,7 +154,12 @@ fn ffd_from_ini(ini: &Ini) -> Result<Ffd> {
     for (slot, key) in length.iter_mut().zip(["box length x", "box length y", "box length z"]) {
         let (v, line) = float(key, "box length")?;
         if v <= 0.0 {
-            return Err(Error::InvalidParameter { line: Some(line), name: "box length", value: v, reason: "must be positive" });
+            return Err(Error::InvalidParameter {
+                line: Some(line),
+                name: "box length",
+                value: v,
+                reason: "must be positive",
+            });
         }
         *slot = v;
     }
@@ -165,16 +182,28 @@ fn ffd_from_ini(ini: &Ini) -> Result<Ffd> {
         for row in entry.rows() {
             let tokens: Vec<&str> = row.text.split_whitespace().collect();
             if tokens.len() != 4 {
-                return Err(Error::Syntax { line: row.line, expected: "`i j k weight` (four values)", found: row.text.clone() });
+                return Err(Error::Syntax {
+                    line: row.line,
+                    expected: "`i j k weight` (four values)",
+                    found: row.text.clone(),
+                });
             }
-            let index = [parse_usize(tokens[0], row.line)?, parse_usize(tokens[1], row.line)?, parse_usize(tokens[2], row.line)?];
+            let index = [
+                parse_usize(tokens[0], row.line)?,
+                parse_usize(tokens[1], row.line)?,
+                parse_usize(tokens[2], row.line)?,
+            ];
             if index.iter().zip(shape).any(|(&i, n)| i >= n) {
                 return Err(Error::IndexOutOfRange { line: row.line, index, shape });
             }
             let value = parse_finite(tokens[3], row.line, "weight")?;
             let flat = (index[0] * shape[1] + index[1]) * shape[2] + index[2];
             if let Some(first) = seen[flat] {
-                return Err(Error::Duplicate { line: row.line, first, what: format!("{key} weight ({}, {}, {})", index[0], index[1], index[2]) });
+                return Err(Error::Duplicate {
+                    line: row.line,
+                    first,
+                    what: format!("{key} weight ({}, {}, {})", index[0], index[1], index[2]),
+                });
             }
             seen[flat] = Some(row.line);
             match target {
@@ -190,14 +219,21 @@ fn ffd_from_ini(ini: &Ini) -> Result<Ffd> {
 
 /// Reads `original control points` and `deformed control points` (three numbers a line,
 /// the same count in both).
-fn control_points_from_ini(ini: &Ini) -> Result<(Vec<Point3<f64>>, Vec<Point3<f64>>)> {
+/// Control points before and after the deformation.
+type PointPairs = (Vec<Point3<f64>>, Vec<Point3<f64>>);
+
+fn control_points_from_ini(ini: &Ini) -> Result<PointPairs> {
     let cp = ini.require(CONTROL)?;
     let orig_entry = cp.require(CONTROL, "original control points")?;
     let def_entry = cp.require(CONTROL, "deformed control points")?;
     let original = points_of(orig_entry)?;
     let deformed = points_of(def_entry)?;
     if original.is_empty() {
-        return Err(Error::Syntax { line: orig_entry.line, expected: "at least one control point", found: String::new() });
+        return Err(Error::Syntax {
+            line: orig_entry.line,
+            expected: "at least one control point",
+            found: String::new(),
+        });
     }
     if deformed.len() != original.len() {
         return Err(Error::CountMismatch {
@@ -216,7 +252,11 @@ fn points_of(entry: &Entry) -> Result<Vec<Point3<f64>>> {
         .map(|row| {
             let t: Vec<&str> = row.text.split_whitespace().collect();
             if t.len() != 3 {
-                return Err(Error::Syntax { line: row.line, expected: "three coordinates `x y z`", found: row.text.clone() });
+                return Err(Error::Syntax {
+                    line: row.line,
+                    expected: "three coordinates `x y z`",
+                    found: row.text.clone(),
+                });
             }
             Ok(Point3::new(
                 parse_finite(t[0], row.line, "coordinate")?,
@@ -233,7 +273,12 @@ fn rbf_from_ini(ini: &Ini) -> Result<RbfParameters> {
     let radius_v = s.require(RBF, "radius")?.scalar()?;
     let radius = parse_finite(&radius_v.text, radius_v.line, "radius")?;
     if radius <= 0.0 {
-        return Err(Error::InvalidParameter { line: Some(radius_v.line), name: "radius", value: radius, reason: "must be positive" });
+        return Err(Error::InvalidParameter {
+            line: Some(radius_v.line),
+            name: "radius",
+            value: radius,
+            reason: "must be positive",
+        });
     }
     if !Kernel::NAMES.contains(&basis.text.as_str()) {
         return Err(Error::UnknownKernel { line: basis.line, name: basis.text.clone() });
@@ -246,16 +291,26 @@ fn rbf_from_ini(ini: &Ini) -> Result<RbfParameters> {
                 let v = e.scalar()?;
                 let kv = parse_usize(&v.text, v.line)?;
                 if kv == 0 || kv > 64 {
-                    return Err(Error::InvalidParameter { line: Some(v.line), name: "k", value: kv as f64, reason: "must be in 1..=64" });
+                    return Err(Error::InvalidParameter {
+                        line: Some(v.line),
+                        name: "k",
+                        value: kv as f64,
+                        reason: "must be in 1..=64",
+                    });
                 }
                 k = Some(kv as u32);
             }
             other => {
-                return Err(Error::UnknownParameter { line: e.line, name: other.to_string(), context: basis.text.clone() });
+                return Err(Error::UnknownParameter {
+                    line: e.line,
+                    name: other.to_string(),
+                    context: basis.text.clone(),
+                });
             }
         }
     }
-    let kernel = Kernel::from_name(&basis.text, radius, k).ok_or_else(|| Error::UnknownKernel { line: basis.line, name: basis.text.clone() })?;
+    let kernel = Kernel::from_name(&basis.text, radius, k)
+        .ok_or_else(|| Error::UnknownKernel { line: basis.line, name: basis.text.clone() })?;
     let (original, deformed) = control_points_from_ini(ini)?;
     Ok(RbfParameters { kernel, original, deformed })
 }
@@ -265,7 +320,12 @@ fn idw_from_ini(ini: &Ini) -> Result<IdwParameters> {
     let p = s.require(IDW, "power")?.scalar()?;
     let power = parse_usize(&p.text, p.line)?;
     if power == 0 || power > 64 {
-        return Err(Error::InvalidParameter { line: Some(p.line), name: "power", value: power as f64, reason: "PyGeM's Minkowski distance needs a power in 1..=64" });
+        return Err(Error::InvalidParameter {
+            line: Some(p.line),
+            name: "power",
+            value: power as f64,
+            reason: "PyGeM's Minkowski distance needs a power in 1..=64",
+        });
     }
     if let Some(e) = s.entries.iter().find(|e| e.key != "power") {
         return Err(Error::UnknownParameter { line: e.line, name: e.key.clone(), context: format!("[{IDW}]") });

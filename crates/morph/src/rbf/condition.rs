@@ -24,7 +24,8 @@ pub(crate) fn inverse_norm1(n: usize, solve: &mut dyn FnMut(&mut [f64]), solve_t
         if xi.iter().any(|v| !v.is_finite()) {
             return f64::INFINITY;
         }
-        let (j, zmax) = xi.iter().enumerate().fold((0, 0.0f64), |acc, (i, v)| if v.abs() > acc.1 { (i, v.abs()) } else { acc });
+        let (j, zmax) =
+            xi.iter().enumerate().fold((0, 0.0f64), |acc, (i, v)| if v.abs() > acc.1 { (i, v.abs()) } else { acc });
         let ztx: f64 = xi.iter().zip(&x).map(|(a, b)| a * b).sum();
         if iter > 0 && (j == last_j || zmax <= ztx) {
             break;

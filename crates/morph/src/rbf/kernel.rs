@@ -169,7 +169,9 @@ impl Kernel {
     pub fn support(&self) -> Option<f64> {
         match *self {
             Kernel::BeckertWendlandC2 { radius } => Some(radius),
-            Kernel::WendlandC0 { support } | Kernel::WendlandC2 { support } | Kernel::WendlandC4 { support } => Some(support),
+            Kernel::WendlandC0 { support } | Kernel::WendlandC2 { support } | Kernel::WendlandC4 { support } => {
+                Some(support)
+            }
             _ => None,
         }
     }
@@ -290,11 +292,21 @@ impl Kernel {
     pub(crate) fn validate(&self) -> crate::Result<()> {
         let r = self.radius();
         if !(r.is_finite() && r > 0.0) {
-            return Err(crate::Error::InvalidParameter { line: None, name: "radius", value: r, reason: "must be positive and finite" });
+            return Err(crate::Error::InvalidParameter {
+                line: None,
+                name: "radius",
+                value: r,
+                reason: "must be positive and finite",
+            });
         }
         if let Some(k) = self.k() {
             if k == 0 {
-                return Err(crate::Error::InvalidParameter { line: None, name: "k", value: 0.0, reason: "must be at least 1" });
+                return Err(crate::Error::InvalidParameter {
+                    line: None,
+                    name: "k",
+                    value: 0.0,
+                    reason: "must be at least 1",
+                });
             }
         }
         Ok(())

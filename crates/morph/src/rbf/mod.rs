@@ -74,7 +74,7 @@ impl Default for RbfOptions {
 }
 
 /// The factorised interpolation system.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 enum System {
     Dense(PartialPivLu<f64>),
     Sparse {
@@ -120,7 +120,7 @@ enum System {
 /// assert!((p - Point3::new(1.1, 1.2, 1.3)).norm() < 1e-13);
 /// # Ok::<(), cadmorph_morph::Error>(())
 /// ```
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Rbf {
     kernel: Kernel,
     centres: Vec<Point3<f64>>,
@@ -155,7 +155,12 @@ impl Rbf {
     /// As [`Rbf::try_new`].
     pub fn from_parameters(params: &RbfParameters) -> Result<Rbf> {
         if params.original.len() != params.deformed.len() {
-            return Err(Error::CountMismatch { line: 0, what: "deformed control points", expected: params.original.len(), found: params.deformed.len() });
+            return Err(Error::CountMismatch {
+                line: 0,
+                what: "deformed control points",
+                expected: params.original.len(),
+                found: params.deformed.len(),
+            });
         }
         let d: Vec<Vector3<f64>> = params.original.iter().zip(&params.deformed).map(|(a, b)| b - a).collect();
         Rbf::try_new(&params.original, &d, params.kernel)
@@ -167,18 +172,38 @@ impl Rbf {
     ///
     /// As [`Rbf::try_new`]; also [`Error::InvalidParameter`] when [`Solver::Sparse`] is
     /// asked for a global kernel.
-    pub fn try_new_with(centres: &[Point3<f64>], displacements: &[Vector3<f64>], kernel: Kernel, options: RbfOptions) -> Result<Rbf> {
+    pub fn try_new_with(
+        centres: &[Point3<f64>],
+        displacements: &[Vector3<f64>],
+        kernel: Kernel,
+        options: RbfOptions,
+    ) -> Result<Rbf> {
         kernel.validate()?;
         let n = centres.len();
         if n != displacements.len() {
-            return Err(Error::CountMismatch { line: 0, what: "displacements (one per control point)", expected: n, found: displacements.len() });
+            return Err(Error::CountMismatch {
+                line: 0,
+                what: "displacements (one per control point)",
+                expected: n,
+                found: displacements.len(),
+            });
         }
         if n < 4 {
-            return Err(Error::CountMismatch { line: 0, what: "control points (the linear term needs at least 4)", expected: 4, found: n });
+            return Err(Error::CountMismatch {
+                line: 0,
+                what: "control points (the linear term needs at least 4)",
+                expected: 4,
+                found: n,
+            });
         }
         for v in centres.iter().flat_map(|p| p.iter()).chain(displacements.iter().flat_map(|d| d.iter())) {
             if !v.is_finite() {
-                return Err(Error::InvalidParameter { line: None, name: "control point", value: *v, reason: "must be finite" });
+                return Err(Error::InvalidParameter {
+                    line: None,
+                    name: "control point",
+                    value: *v,
+                    reason: "must be finite",
+                });
             }
         }
         let sparse = match options.solver {
@@ -221,7 +246,7 @@ impl Rbf {
             tree,
         };
         let (system, condition) = if sparse { rbf.factor_sparse()? } else { rbf.factor_dense()? };
-        if !(condition < 1.0 / f64::EPSILON) {
+        if condition.is_nan() || condition >= 1.0 / f64::EPSILON {
             return Err(Error::SingularSystem { condition });
         }
         if condition > options.max_condition {
@@ -263,11 +288,10 @@ impl Rbf {
         drop(data);
         let lu = a.partial_piv_lu();
         drop(a);
-        let inv = condition::inverse_norm1(
-            size,
-            &mut |x: &mut [f64]| solve_vec(&lu, x, false),
-            &mut |x: &mut [f64]| solve_vec(&lu, x, true),
-        );
+        let inv =
+            condition::inverse_norm1(size, &mut |x: &mut [f64]| solve_vec(&lu, x, false), &mut |x: &mut [f64]| {
+                solve_vec(&lu, x, true)
+            });
         Ok((System::Dense(lu), norm1 * inv))
     }
 
@@ -306,16 +330,16 @@ impl Rbf {
         }
         drop(columns);
         let norm1 = norm1_cols.into_iter().fold(0.0, f64::max);
-        let phi = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets).map_err(|_| Error::SingularSystem { condition: f64::INFINITY })?;
+        let phi = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets)
+            .map_err(|_| Error::SingularSystem { condition: f64::INFINITY })?;
         drop(triplets);
         // Φ is positive definite for distinct centres; a failed Cholesky means coincident ones.
         let llt = phi.sp_cholesky(Side::Lower).map_err(|_| Error::SingularSystem { condition: f64::INFINITY })?;
         drop(phi);
-        let inv = condition::inverse_norm1(
-            n,
-            &mut |x: &mut [f64]| sparse_solve_vec(&llt, x),
-            &mut |x: &mut [f64]| sparse_solve_vec(&llt, x),
-        );
+        let inv =
+            condition::inverse_norm1(n, &mut |x: &mut [f64]| sparse_solve_vec(&llt, x), &mut |x: &mut [f64]| {
+                sparse_solve_vec(&llt, x)
+            });
         let cond_phi = norm1 * inv;
         let mut phi_inv_p = Mat::from_fn(n, 4, |i, a| self.poly_row(&self.centres[i])[a]);
         llt.solve_in_place(phi_inv_p.as_mut());
@@ -329,7 +353,9 @@ impl Rbf {
             }
         }
         let schur_inv = schur.try_inverse().ok_or(Error::SingularSystem { condition: f64::INFINITY })?;
-        let col_norm1 = |m: &Matrix4<f64>| -> f64 { (0..4).map(|j| m.column(j).iter().map(|v| v.abs()).sum::<f64>()).fold(0.0, f64::max) };
+        let col_norm1 = |m: &Matrix4<f64>| -> f64 {
+            (0..4).map(|j| m.column(j).iter().map(|v| v.abs()).sum::<f64>()).fold(0.0, f64::max)
+        };
         let cond_schur = col_norm1(&schur) * col_norm1(&schur_inv);
         let cond_schur = if cond_schur.is_finite() { cond_schur } else { f64::INFINITY };
         Ok((System::Sparse { llt, phi_inv_p, schur_inv }, cond_phi.max(cond_schur)))
@@ -448,7 +474,9 @@ impl Rbf {
     #[inline]
     fn linear_term(&self, p: &Point3<f64>) -> Vector3<f64> {
         let r = self.poly_row(p);
-        Vector3::from_fn(|c, _| self.beta[c][0] + self.beta[c][1] * r[1] + self.beta[c][2] * r[2] + self.beta[c][3] * r[3])
+        Vector3::from_fn(|c, _| {
+            self.beta[c][0] + self.beta[c][1] * r[1] + self.beta[c][2] * r[2] + self.beta[c][3] * r[3]
+        })
     }
 
     /// Indices and distances of the centres whose kernel may be nonzero at `p`.

@@ -30,8 +30,10 @@ pub fn read_npy(name: &str) -> (Vec<usize>, Vec<f64>) {
     assert!(header.contains("'descr': '<f8'"), "{name}: {header}");
     assert!(header.contains("'fortran_order': False"), "{name}: {header}");
     let shape_txt = header.split("'shape': (").nth(1).unwrap().split(')').next().unwrap();
-    let shape: Vec<usize> = shape_txt.split(',').filter(|s| !s.trim().is_empty()).map(|s| s.trim().parse().unwrap()).collect();
-    let data: Vec<f64> = bytes[start + header_len..].chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().unwrap())).collect();
+    let shape: Vec<usize> =
+        shape_txt.split(',').filter(|s| !s.trim().is_empty()).map(|s| s.trim().parse().unwrap()).collect();
+    let data: Vec<f64> =
+        bytes[start + header_len..].chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().unwrap())).collect();
     assert_eq!(data.len(), shape.iter().product::<usize>(), "{name}");
     (shape, data)
 }
@@ -69,7 +71,10 @@ pub fn max_abs_diff(a: &[Point3<f64>], b: &[Point3<f64>]) -> f64 {
 /// A full-precision value from `pygem_reference_points.txt` (PyGeM run on the same files).
 pub fn pygem_reference(name: &str) -> Point3<f64> {
     let text = read_text("pygem_reference_points.txt");
-    let line = text.lines().find(|l| l.split_whitespace().next() == Some(name)).unwrap_or_else(|| panic!("no reference {name}"));
+    let line = text
+        .lines()
+        .find(|l| l.split_whitespace().next() == Some(name))
+        .unwrap_or_else(|| panic!("no reference {name}"));
     let v: Vec<f64> = line.split_whitespace().skip(1).map(|t| t.parse().unwrap()).collect();
     Point3::new(v[0], v[1], v[2])
 }
