@@ -50,9 +50,9 @@ fn eval(file: &PathBuf, grid: usize, only: Option<usize>, json: bool) -> Result<
         };
         let scale = s.control_points().iter().map(|p| p.coords.norm()).fold(f64::MIN_POSITIVE, f64::max);
         let (mut dp, mut dn) = (0.0f64, 0.0f64);
-        for (u, v, p, n) in &f.samples {
-            dp = dp.max((s.eval(*u, *v) - p).norm() / scale);
-            if let (Some(a), Some(b)) = (s.normal(*u, *v), n) {
+        for smp in &f.samples {
+            dp = dp.max((s.eval(smp.u, smp.v) - smp.point).norm() / scale);
+            if let (Some(a), Some(b)) = (s.normal(smp.u, smp.v), smp.normal) {
                 dn = dn.max((a.into_inner() - b).norm());
             }
         }
@@ -93,7 +93,9 @@ fn eval(file: &PathBuf, grid: usize, only: Option<usize>, json: bool) -> Result<
             );
             println!("{:>8} {:>8} {:>14} {:>14} {:>14} {:>9} {:>9} {:>9}", "u", "v", "x", "y", "z", "nx", "ny", "nz");
             for (u, v, p, n) in &rows {
-                let n = n.map_or("    (degenerate point)".to_string(), |n| format!("{:>9.5} {:>9.5} {:>9.5}", n[0], n[1], n[2]));
+                let n = n.map_or("    (degenerate point)".to_string(), |n| {
+                    format!("{:>9.5} {:>9.5} {:>9.5}", n[0], n[1], n[2])
+                });
                 println!("{u:>8.4} {v:>8.4} {:>14.6} {:>14.6} {:>14.6} {n}", p[0], p[1], p[2]);
             }
             println!();

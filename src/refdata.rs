@@ -19,8 +19,21 @@ pub struct RefFace {
     pub class: String,
     /// The surface, for B-spline faces.
     pub surface: Option<NurbsSurface>,
-    /// OCCT's samples: `(u, v, point, normal)`.
-    pub samples: Vec<(f64, f64, Point3<f64>, Option<Vector3<f64>>)>,
+    /// OCCT's evaluations.
+    pub samples: Vec<RefSample>,
+}
+
+/// OCCT's evaluation of a face at one parameter pair.
+#[derive(Debug, Clone, Copy)]
+pub struct RefSample {
+    /// u.
+    pub u: f64,
+    /// v.
+    pub v: f64,
+    /// S(u, v).
+    pub point: Point3<f64>,
+    /// normalize(S_u × S_v), `None` where OCCT gave none.
+    pub normal: Option<Vector3<f64>>,
 }
 
 fn num(v: &Value, what: &str) -> Result<f64> {
@@ -103,7 +116,12 @@ pub fn read_faces(text: &str) -> Result<Vec<RefFace>> {
                 Value::Null => None,
                 n => Some(point(n, "normal")?.coords),
             };
-            samples.push((num(&s["u"], "u")?, num(&s["v"], "v")?, point(&s["p"], "point")?, n));
+            samples.push(RefSample {
+                u: num(&s["u"], "u")?,
+                v: num(&s["v"], "v")?,
+                point: point(&s["p"], "point")?,
+                normal: n,
+            });
         }
         out.push(RefFace { index, class, surface, samples });
     }

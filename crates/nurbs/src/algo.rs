@@ -4,6 +4,10 @@
 //! Everything here works on one row of homogeneous points `Pw = (w·x, w·y, w·z, w)`;
 //! curves call it once, surfaces once per row or column. Non-rational splines pass
 //! `w = 1`, so one code path serves both.
+//!
+//! The loops follow the book's pseudocode line by line so each can be checked against
+//! it; clippy's slice-copy and counter-loop rewrites would hide that correspondence.
+#![allow(clippy::manual_memcpy, clippy::explicit_counter_loop)]
 
 use nalgebra::Vector4;
 

@@ -771,7 +771,8 @@ impl Surface for NurbsSurface {
         let d = self.eval_d1(u, v);
         let n = d.du.cross(&d.dv);
         let scale = d.du.norm() * d.dv.norm();
-        if !(n.norm() > 1e-12 * scale) || scale == 0.0 {
+        let m = n.norm();
+        if m.is_nan() || m <= 1e-12 * scale || scale == 0.0 {
             return None;
         }
         Unit::try_new(n, 0.0)
