@@ -38,6 +38,54 @@ pub struct NurbsSurface {
     n_v: usize,
     control_points: Vec<Point3<f64>>,
     weights: Option<Vec<f64>>,
+    /// Reciprocal knot differences of A2.2 per span, derived from the knots (see
+    /// [`inverse_denominators`]); they make the hot evaluation paths division-free.
+    u_inv: Vec<f64>,
+    v_inv: Vec<f64>,
+}
+
+/// The reciprocals `1 / (u_{i+r+1} − u_{i+1−j+r})` that A2.2 divides by, for every span
+/// `i` and every `1 ≤ j ≤ p`, `0 ≤ r < j`, stored at `i·p(p+1)/2 + j(j−1)/2 + r`.
+/// Empty spans (repeated knots) get zeros; evaluation never lands in them.
+fn inverse_denominators(knots: &[f64], p: usize) -> Vec<f64> {
+    let per = p * (p + 1) / 2;
+    let spans = knots.len().saturating_sub(p + 1);
+    let mut inv = vec![0.0; spans * per];
+    for i in p..spans {
+        if knots[i + 1] <= knots[i] {
+            continue;
+        }
+        for j in 1..=p {
+            for r in 0..j {
+                inv[i * per + j * (j - 1) / 2 + r] = 1.0 / (knots[i + r + 1] - knots[i + 1 + r - j]);
+            }
+        }
+    }
+    inv
+}
+
+/// A2.2 with the divisions replaced by the precomputed reciprocals of `inv`.
+#[inline(always)]
+fn basis_funs_inv<const N: usize>(knots: &[f64], inv: &[f64], span: usize, u: f64, p: usize) -> [f64; N] {
+    let per = p * (p + 1) / 2;
+    let inv = &inv[span * per..span * per + per];
+    let mut out = [0.0; N];
+    let mut left = [0.0; N];
+    let mut right = [0.0; N];
+    out[0] = 1.0;
+    for j in 1..=p {
+        left[j] = u - knots[span + 1 - j];
+        right[j] = knots[span + j] - u;
+        let mut saved = 0.0;
+        let row = j * (j - 1) / 2;
+        for r in 0..j {
+            let temp = out[r] * inv[row + r];
+            out[r] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        out[j] = saved;
+    }
+    out
 }
 
 /// All partial derivatives of a surface up to a total order `n`:
@@ -120,7 +168,9 @@ impl NurbsSurface {
         if let Some(w) = &weights {
             check_weights(w, control_points.len())?;
         }
-        Ok(Self { u_degree, v_degree, u_knots, v_knots, n_u, n_v, control_points, weights })
+        let u_inv = inverse_denominators(u_knots.as_slice(), u_degree);
+        let v_inv = inverse_denominators(v_knots.as_slice(), v_degree);
+        Ok(Self { u_degree, v_degree, u_knots, v_knots, n_u, n_v, control_points, weights, u_inv, v_inv })
     }
 
     /// Like [`try_new`](Self::try_new).
@@ -157,6 +207,8 @@ impl NurbsSurface {
         Self {
             u_degree: degrees.0,
             v_degree: degrees.1,
+            u_inv: inverse_denominators(&knots.0, degrees.0),
+            v_inv: inverse_denominators(&knots.1, degrees.1),
             u_knots: KnotVector::new_unchecked(knots.0),
             v_knots: KnotVector::new_unchecked(knots.1),
             n_u: size.0,
@@ -277,6 +329,8 @@ impl NurbsSurface {
             n_v: self.n_u,
             control_points: pts,
             weights: w,
+            u_inv: self.v_inv.clone(),
+            v_inv: self.u_inv.clone(),
         }
     }
 
@@ -483,6 +537,7 @@ impl NurbsSurface {
     pub fn u_reversed(&self) -> Self {
         let mut s = self.clone();
         s.u_knots = self.u_knots.reversed();
+        s.u_inv = inverse_denominators(s.u_knots.as_slice(), s.u_degree);
         let n_v = self.n_v;
         s.control_points =
             (0..self.n_u).rev().flat_map(|i| self.control_points[i * n_v..(i + 1) * n_v].iter().copied()).collect();
@@ -551,8 +606,8 @@ impl NurbsSurface {
         let vk = self.v_knots.as_slice();
         let su = crate::knots::find_span(uk, p, u);
         let sv = crate::knots::find_span(vk, q, v);
-        let (nu, dnu) = basis_d1::<N>(uk, su, u, p);
-        let (nv, dnv) = basis_d1::<N>(vk, sv, v, q);
+        let (nu, dnu) = basis_d1::<N>(uk, &self.u_inv, su, u, p);
+        let (nv, dnv) = basis_d1::<N>(vk, &self.v_inv, sv, v, q);
         let (i0, j0) = (su - p, sv - q);
         match &self.weights {
             None => {
@@ -654,11 +709,14 @@ impl NurbsSurface {
     }
 }
 
-/// Basis functions and first derivatives in fixed-size buffers (degree < N).
+/// Basis functions and first derivatives in fixed-size buffers (degree < N), division-free
+/// with the reciprocals of [`inverse_denominators`]. The derivative is A2.3's first-order
+/// formula `N'ᵢ,ₚ = p (Nᵢ,ₚ₋₁ / (uᵢ₊ₚ − uᵢ) − Nᵢ₊₁,ₚ₋₁ / (uᵢ₊ₚ₊₁ − uᵢ₊₁))`, whose
+/// denominators are the last level of A2.2's.
 #[inline(always)]
-fn basis_d1<const N: usize>(knots: &[f64], span: usize, u: f64, p: usize) -> ([f64; N], [f64; N]) {
-    // Degree p-1 functions first, then A2.3's first-derivative formula
-    // N'_{i,p} = p (N_{i,p-1}/(u_{i+p}-u_i) - N_{i+1,p-1}/(u_{i+p+1}-u_{i+1})).
+fn basis_d1<const N: usize>(knots: &[f64], inv: &[f64], span: usize, u: f64, p: usize) -> ([f64; N], [f64; N]) {
+    let per = p * (p + 1) / 2;
+    let inv = &inv[span * per..span * per + per];
     let mut n = [0.0; N];
     let mut left = [0.0; N];
     let mut right = [0.0; N];
@@ -667,19 +725,19 @@ fn basis_d1<const N: usize>(knots: &[f64], span: usize, u: f64, p: usize) -> ([f
     for j in 1..=p {
         left[j] = u - knots[span + 1 - j];
         right[j] = knots[span + j] - u;
+        let row = j * (j - 1) / 2;
         if j == p {
             // n[0..p] holds the degree p-1 functions N_{span-p+1..=span, p-1}.
             let pf = p as f64;
             for r in 0..=p {
-                // N_{span-p+r, p}' uses N_{span-p+r, p-1} = n[r-1] and N_{span-p+r+1, p-1} = n[r].
-                let a = if r >= 1 { n[r - 1] / (right[r] + left[p - r + 1]) } else { 0.0 };
-                let b = if r < p { n[r] / (right[r + 1] + left[p - r]) } else { 0.0 };
+                let a = if r >= 1 { n[r - 1] * inv[row + r - 1] } else { 0.0 };
+                let b = if r < p { n[r] * inv[row + r] } else { 0.0 };
                 d[r] = pf * (a - b);
             }
         }
         let mut saved = 0.0;
         for r in 0..j {
-            let temp = n[r] / (right[r + 1] + left[j - r]);
+            let temp = n[r] * inv[row + r];
             n[r] = saved + right[r + 1] * temp;
             saved = left[j - r] * temp;
         }
@@ -698,12 +756,8 @@ impl NurbsSurface {
         let vk = self.v_knots.as_slice();
         let su = crate::knots::find_span(uk, p, u);
         let sv = crate::knots::find_span(vk, q, v);
-        let mut nu = [0.0; N];
-        let mut nv = [0.0; N];
-        let mut left = [0.0; N];
-        let mut right = [0.0; N];
-        basis_funs_into(uk, su, u, p, &mut nu, &mut left, &mut right);
-        basis_funs_into(vk, sv, v, q, &mut nv, &mut left, &mut right);
+        let nu = basis_funs_inv::<N>(uk, &self.u_inv, su, u, p);
+        let nv = basis_funs_inv::<N>(vk, &self.v_inv, sv, v, q);
         let (i0, j0) = (su - p, sv - q);
         match &self.weights {
             None => {
