@@ -1,6 +1,7 @@
 //! Surface evaluation (point, point + first partials) at 1e6 parameter pairs, and knot
 //! refinement with 100 knots per direction, on the bicubic 10×10 surface that
 //! `benches/occt/nurbs_occt.cpp` times in OCCT (see `benches/nurbs_vs_occt.sh`).
+#![allow(missing_docs)] // criterion_group! generates an undocumented public fn
 
 use std::hint::black_box;
 
