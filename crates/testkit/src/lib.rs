@@ -63,3 +63,62 @@ pub fn grid(s: &cadmorph_nurbs::NurbsSurface, n: usize) -> Vec<(f64, f64)> {
     let vs = axis(vd, s.v_knots());
     us.iter().flat_map(|&u| vs.iter().map(move |&v| (u, v))).collect()
 }
+
+/// The OCCT oracle harness (`tests/occt/occt_ref.py`) run by the venv's Python.
+///
+/// Tests that use it are `#[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]`
+/// and run by `scripts/test`; a missing venv makes them fail with that instruction.
+pub mod harness {
+    use std::path::{Path, PathBuf};
+    use std::process::Command;
+
+    /// The repository root.
+    pub fn root() -> PathBuf {
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+    }
+
+    /// The venv's Python.
+    ///
+    /// # Panics
+    ///
+    /// If the venv is missing, with the command that makes it.
+    pub fn python() -> PathBuf {
+        let py = root().join("tests/occt/.venv/bin/python");
+        assert!(py.exists(), "the OCCT venv is missing: run `bash tests/occt/setup.sh` (or `bash scripts/test`)");
+        py
+    }
+
+    /// Runs `occt_ref.py ARGS...` and parses its JSON output; returns the exit code too.
+    ///
+    /// # Panics
+    ///
+    /// If the harness cannot be started or prints no JSON.
+    pub fn run(args: &[&str]) -> (i32, serde_json::Value) {
+        let out = Command::new(python())
+            .arg(root().join("tests/occt/occt_ref.py"))
+            .args(args)
+            .output()
+            .expect("occt_ref.py starts");
+        let code = out.status.code().unwrap_or(-1);
+        let json = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+            panic!(
+                "occt_ref.py {args:?} exited {code} without JSON ({e}); stderr:\n{}",
+                String::from_utf8_lossy(&out.stderr)
+            )
+        });
+        (code, json)
+    }
+
+    /// `occt_ref.py validate FILE [--eval REQUEST]`: OCCT's read status, validity and
+    /// (with a request) its evaluation of each face.
+    pub fn validate(file: &Path, eval_request: Option<&Path>) -> (i32, serde_json::Value) {
+        let f = file.to_string_lossy().into_owned();
+        let mut args = vec!["validate", f.as_str()];
+        let r;
+        if let Some(req) = eval_request {
+            r = req.to_string_lossy().into_owned();
+            args.extend(["--eval", r.as_str()]);
+        }
+        run(&args)
+    }
+}
