@@ -151,6 +151,31 @@ impl NurbsCurve {
         Self::try_new(degree, knots, pts, weights)
     }
 
+    /// Applies the affine map `m` (a homogeneous 4×4 matrix whose last row is
+    /// `0 0 0 1`) to the control points, in place. Weights are kept: an affine map
+    /// commutes with the rational combination, so `c.transformed(m).eval(t) == m · c.eval(t)`.
+    ///
+    /// # Panics
+    ///
+    /// If the last row of `m` is not `0 0 0 1` (a projective map would change the weights).
+    pub fn transform_by(&mut self, m: &nalgebra::Matrix4<f64>) {
+        assert!(
+            m.row(3) == nalgebra::RowVector4::new(0.0, 0.0, 0.0, 1.0),
+            "transform_by takes an affine map; its last row was {}",
+            m.row(3)
+        );
+        for p in &mut self.control_points {
+            *p = m.transform_point(p);
+        }
+    }
+
+    /// A copy with the affine map `m` applied; see [`transform_by`](Self::transform_by).
+    pub fn transformed(&self, m: &nalgebra::Matrix4<f64>) -> Self {
+        let mut c = self.clone();
+        c.transform_by(m);
+        c
+    }
+
     /// The degree `p`.
     pub fn degree(&self) -> usize {
         self.degree

@@ -157,3 +157,43 @@ fn rational_quarter_circle() {
         assert!(d[0].dot(&d[1]).abs() < 1e-14);
     }
 }
+
+/// An affine map of the control points maps every point of a rational curve and surface.
+#[test]
+fn affine_transform_commutes_with_evaluation() {
+    use cadmorph_nurbs::math::{Matrix4, Rotation3, Vector3};
+    use cadmorph_nurbs::{NurbsSurface, Surface};
+    let w = std::f64::consts::FRAC_1_SQRT_2;
+    let arc = NurbsCurve::new(
+        2,
+        KnotVector::clamped_uniform(2, 3),
+        vec![Point3::new(1., 0., 0.), Point3::new(1., 1., 0.), Point3::new(0., 1., 0.)],
+        Some(vec![1.0, w, 1.0]),
+    );
+    let m = Matrix4::new_translation(&Vector3::new(1.0, -2.0, 3.0))
+        * Rotation3::from_euler_angles(0.3, -0.2, 1.1).to_homogeneous()
+        * Matrix4::new_nonuniform_scaling(&Vector3::new(2.0, 0.5, 1.5));
+    let t = arc.transformed(&m);
+    for i in 0..=10 {
+        let u = i as f64 / 10.0;
+        assert_relative_eq!(t.eval(u), m.transform_point(&arc.eval(u)), epsilon = 1e-13);
+    }
+    let s = NurbsSurface::new(
+        (2, 1),
+        (KnotVector::clamped_uniform(2, 3), KnotVector::clamped_uniform(1, 2)),
+        (3, 2),
+        vec![
+            Point3::new(1., 0., 0.),
+            Point3::new(1., 0., 1.),
+            Point3::new(1., 1., 0.),
+            Point3::new(1., 1., 1.),
+            Point3::new(0., 1., 0.),
+            Point3::new(0., 1., 1.),
+        ],
+        Some(vec![1.0, 1.0, w, w, 1.0, 1.0]),
+    );
+    let ts = s.transformed(&m);
+    for (u, v) in [(0.0, 0.0), (0.3, 0.7), (1.0, 0.5)] {
+        assert_relative_eq!(ts.eval(u, v), m.transform_point(&s.eval(u, v)), epsilon = 1e-13);
+    }
+}
