@@ -520,6 +520,86 @@ impl NurbsSurface {
         Ok(())
     }
 
+    /// The Bézier patches of the surface (Piegl & Tiller A5.7, by refinement to full
+    /// interior multiplicity in both directions): `patches[a][b]` covers the `a`-th
+    /// non-empty u span and the `b`-th v span, with `(p + 1) × (q + 1)` control points.
+    pub fn bezier_patches(&self) -> Vec<Vec<NurbsSurface>> {
+        let full = |knots: &KnotVector, p: usize| {
+            let (values, mults) = knots.distinct();
+            let mut x = Vec::new();
+            for (&v, &m) in values[1..values.len() - 1].iter().zip(&mults[1..mults.len() - 1]) {
+                x.extend(std::iter::repeat_n(v, p.saturating_sub(m)));
+            }
+            (values, x)
+        };
+        let mut c = self.clone();
+        if !c.u_knots.is_clamped(c.u_degree) || !c.v_knots.is_clamped(c.v_degree) {
+            // Clamp both directions through their rows (exact).
+            let p = c.u_degree;
+            let mut knots = Vec::new();
+            let cols: Vec<Vec<Hom>> = c
+                .u_rows()
+                .iter()
+                .map(|col| {
+                    let (k, q) = clamp_hom(p, c.u_knots.as_slice(), col);
+                    knots = k;
+                    q
+                })
+                .collect();
+            c = c.with_u_rows(p, knots, &cols);
+            let mut t = c.transposed();
+            let q = t.u_degree;
+            let mut knots = Vec::new();
+            let cols: Vec<Vec<Hom>> = t
+                .u_rows()
+                .iter()
+                .map(|col| {
+                    let (k, h) = clamp_hom(q, t.u_knots.as_slice(), col);
+                    knots = k;
+                    h
+                })
+                .collect();
+            t = t.with_u_rows(q, knots, &cols);
+            c = t.transposed();
+        }
+        let (p, q) = (c.u_degree, c.v_degree);
+        let (uvals, xu) = full(&c.u_knots, p);
+        let (vvals, xv) = full(&c.v_knots, q);
+        c.refine_u(&xu).expect("interior knots raised to the degree");
+        c.refine_v(&xv).expect("interior knots raised to the degree");
+        let pw = c.homogeneous();
+        let bez = |a: f64, b: f64, d: usize| {
+            let mut k = vec![a; d + 1];
+            k.extend(std::iter::repeat_n(b, d + 1));
+            k
+        };
+        uvals
+            .windows(2)
+            .enumerate()
+            .map(|(a, uw)| {
+                vvals
+                    .windows(2)
+                    .enumerate()
+                    .map(|(b, vw)| {
+                        let mut net = Vec::with_capacity((p + 1) * (q + 1));
+                        for i in a * p..=a * p + p {
+                            for j in b * q..=b * q + q {
+                                net.push(pw[i * c.n_v + j]);
+                            }
+                        }
+                        Self::from_parts(
+                            (p, q),
+                            (bez(uw[0], uw[1], p), bez(vw[0], vw[1], q)),
+                            (p + 1, q + 1),
+                            &net,
+                            c.is_rational(),
+                        )
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
     /// Splits at `u = t` into the patches on `[u₀, t]` and `[t, u₁]`.
     ///
     /// # Errors

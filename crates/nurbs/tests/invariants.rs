@@ -217,6 +217,23 @@ proptest! {
     }
 
     #[test]
+    fn surface_bezier_patches_reproduce(s in nurbs_surface(1..=4)) {
+        let patches = s.bezier_patches();
+        let scale = surface_scale(&s);
+        let (nu, nv) = (s.u_knots().distinct().0.len() - 1, s.v_knots().distinct().0.len() - 1);
+        prop_assert_eq!(patches.len(), nu);
+        for row in &patches {
+            prop_assert_eq!(row.len(), nv);
+            for b in row {
+                prop_assert_eq!((b.n_u(), b.n_v()), (s.u_degree() + 1, s.v_degree() + 1));
+                for (u, v) in cadmorph_testkit::grid(b, 4) {
+                    prop_assert!((b.eval(u, v) - s.eval(u, v)).norm() <= REFINE_INVARIANCE * scale);
+                }
+            }
+        }
+    }
+
+    #[test]
     fn surface_derivatives_match_central_differences(s in nurbs_surface(1..=4), fu in 0.02f64..0.98, fv in 0.02f64..0.98) {
         let (ud, vd) = s.domain();
         let (u, v) = (lerp(&ud, fu), lerp(&vd, fv));

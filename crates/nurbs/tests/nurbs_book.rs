@@ -197,3 +197,39 @@ fn affine_transform_commutes_with_evaluation() {
         assert_relative_eq!(ts.eval(u, v), m.transform_point(&s.eval(u, v)), epsilon = 1e-13);
     }
 }
+
+/// A periodic cubic through one period of 6 poles on a hexagon: closed, and C² across
+/// the seam, like OCCT's periodic `Geom_BSplineCurve`.
+#[test]
+fn periodic_curve_is_closed_and_smooth() {
+    let poles: Vec<Point3<f64>> = (0..6)
+        .map(|k| {
+            let a = k as f64 * std::f64::consts::PI / 3.0;
+            Point3::new(a.cos(), a.sin(), 0.1 * k as f64)
+        })
+        .collect();
+    let values = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
+    let c = NurbsCurve::try_periodic(3, &values, &[1; 7], poles, None).unwrap();
+    assert_eq!(c.domain(), 0.0..=6.0);
+    let (a, b) = (c.derivs(0.0, 2), c.derivs(6.0, 2));
+    for k in 0..=2 {
+        assert_relative_eq!(a[k], b[k], epsilon = 1e-13);
+    }
+    // Uniform cubic B-spline: C(j) = (P_{j-1} + 4 P_j + P_{j+1}) / 6 with the first pole
+    // of the period sitting at the segment [0, 1]'s start shifted as OCCT does.
+    let p = c.control_points();
+    let expect = (p[0].coords + p[1].coords * 4.0 + p[2].coords) / 6.0;
+    assert_relative_eq!(c.eval(0.0).coords, expect, epsilon = 1e-14);
+    // OCCT 7.9's periodic Geom_BSplineCurve(poles, knots 0..6, mults 1, degree 3,
+    // periodic) on the same data (printed by OCP), so the pole numbering agrees.
+    for (t, occt) in [
+        (0.0, [0.41666666666666674, 0.7216878364870323, 0.10000000000000002]),
+        (0.5, [1.6653345369377348e-16, 0.8299410119600871, 0.15000000000000002]),
+        (2.3, [-0.7905833333333336, -0.2559105068183013, 0.33000000000000007]),
+    ] {
+        assert_relative_eq!(c.eval(t), Point3::from(occt), epsilon = 1e-14);
+    }
+    // Bad periodic data is rejected, not mis-built.
+    assert!(NurbsCurve::try_periodic(3, &values, &[1; 7], vec![Point3::origin(); 5], None).is_err());
+    assert!(NurbsCurve::try_periodic(3, &values, &[2, 1, 1, 1, 1, 1, 1], vec![Point3::origin(); 6], None).is_err());
+}
