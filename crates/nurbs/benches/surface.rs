@@ -5,25 +5,11 @@
 
 use std::hint::black_box;
 
-use cadmorph_nurbs::math::Point3;
-use cadmorph_nurbs::{KnotVector, NurbsSurface, Surface};
+use cadmorph_nurbs::{NurbsSurface, Surface};
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 
-fn bicubic() -> NurbsSurface {
-    let pts = (0..10)
-        .flat_map(|i| (0..10).map(move |j| Point3::new(i as f64, j as f64, (i as f64).sin() * (j as f64).cos())))
-        .collect();
-    NurbsSurface::new(
-        (3, 3),
-        (KnotVector::clamped_uniform(3, 10), KnotVector::clamped_uniform(3, 10)),
-        (10, 10),
-        pts,
-        None,
-    )
-}
-
 fn rational() -> NurbsSurface {
-    let s = bicubic();
+    let s = cadmorph_testkit::occt_bench_surface();
     let w = (0..100).map(|k| 1.0 + 0.5 * ((k % 7) as f64 / 7.0)).collect();
     NurbsSurface::new(
         (3, 3),
@@ -39,7 +25,7 @@ fn eval(c: &mut Criterion) {
     let mut g = c.benchmark_group("nurbs/eval_surface");
     g.sample_size(10);
     g.throughput(Throughput::Elements(1_000_000));
-    for (name, s) in [("deg3_10x10", bicubic()), ("deg3_10x10_rational", rational())] {
+    for (name, s) in [("deg3_10x10", cadmorph_testkit::occt_bench_surface()), ("deg3_10x10_rational", rational())] {
         g.bench_function(format!("point/{name}/1e6"), |b| {
             b.iter(|| {
                 let mut sum = 0.0;
@@ -68,7 +54,7 @@ fn eval(c: &mut Criterion) {
 }
 
 fn refine(c: &mut Criterion) {
-    let s = bicubic();
+    let s = cadmorph_testkit::occt_bench_surface();
     let x: Vec<f64> = (0..100).map(|k| (k as f64 + 0.5) / 100.0).collect();
     let mut g = c.benchmark_group("nurbs/refine_surface");
     g.throughput(Throughput::Elements(200));

@@ -5,22 +5,7 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use cadmorph_nurbs::math::Point3;
-use cadmorph_nurbs::{KnotVector, NurbsSurface, Surface};
-
-/// Degree 3 × 3, 10 × 10 poles `P[i][j] = (i, j, sin i cos j)`, clamped uniform knots.
-fn surface() -> NurbsSurface {
-    let pts = (0..10)
-        .flat_map(|i| (0..10).map(move |j| Point3::new(i as f64, j as f64, (i as f64).sin() * (j as f64).cos())))
-        .collect();
-    NurbsSurface::new(
-        (3, 3),
-        (KnotVector::clamped_uniform(3, 10), KnotVector::clamped_uniform(3, 10)),
-        (10, 10),
-        pts,
-        None,
-    )
-}
+use cadmorph_nurbs::Surface;
 
 fn best<F: FnMut() -> f64>(repeat: usize, mut f: F) -> (f64, f64) {
     let mut best = f64::INFINITY;
@@ -35,7 +20,7 @@ fn best<F: FnMut() -> f64>(repeat: usize, mut f: F) -> (f64, f64) {
 
 fn main() {
     let repeat = std::env::args().skip_while(|a| a != "--repeat").nth(1).and_then(|r| r.parse().ok()).unwrap_or(5usize);
-    let s = surface();
+    let s = cadmorph_testkit::occt_bench_surface();
     let grid: Vec<f64> = (0..1000).map(|a| a as f64 / 999.0).collect();
     let (eval_s, checksum_eval) = best(repeat, || {
         let mut sum = 0.0;

@@ -78,6 +78,22 @@ pub(crate) fn from_hom(pw: &[Hom], rational: bool) -> (Vec<Point3<f64>>, Option<
     (points, weights)
 }
 
+/// Applies the affine map `m` to `points`.
+///
+/// # Panics
+///
+/// If the last row of `m` is not `0 0 0 1`.
+pub(crate) fn transform_points(points: &mut [Point3<f64>], m: &nalgebra::Matrix4<f64>) {
+    assert!(
+        m.row(3) == nalgebra::RowVector4::new(0.0, 0.0, 0.0, 1.0),
+        "transform_by takes an affine map; its last row was {}",
+        m.row(3)
+    );
+    for p in points {
+        *p = m.transform_point(p);
+    }
+}
+
 /// Binomial coefficient as f64 (small arguments).
 pub(crate) fn binomial(n: usize, k: usize) -> f64 {
     if k > n {
@@ -159,14 +175,7 @@ impl NurbsCurve {
     ///
     /// If the last row of `m` is not `0 0 0 1` (a projective map would change the weights).
     pub fn transform_by(&mut self, m: &nalgebra::Matrix4<f64>) {
-        assert!(
-            m.row(3) == nalgebra::RowVector4::new(0.0, 0.0, 0.0, 1.0),
-            "transform_by takes an affine map; its last row was {}",
-            m.row(3)
-        );
-        for p in &mut self.control_points {
-            *p = m.transform_point(p);
-        }
+        crate::curve::transform_points(&mut self.control_points, m);
     }
 
     /// A copy with the affine map `m` applied; see [`transform_by`](Self::transform_by).

@@ -226,14 +226,7 @@ impl NurbsSurface {
     ///
     /// If the last row of `m` is not `0 0 0 1` (a projective map would change the weights).
     pub fn transform_by(&mut self, m: &nalgebra::Matrix4<f64>) {
-        assert!(
-            m.row(3) == nalgebra::RowVector4::new(0.0, 0.0, 0.0, 1.0),
-            "transform_by takes an affine map; its last row was {}",
-            m.row(3)
-        );
-        for p in &mut self.control_points {
-            *p = m.transform_point(p);
-        }
+        crate::curve::transform_points(&mut self.control_points, m);
     }
 
     /// A copy with the affine map `m` applied; see [`transform_by`](Self::transform_by).
@@ -333,6 +326,52 @@ impl NurbsSurface {
         )
     }
 
+    /// Applies a knot-vector operation `f(knots, row) -> (knots', row')` to every curve of
+    /// the net in u (the columns), all of which share the u knots, and reassembles the
+    /// surface with degree `p`.
+    fn map_u_rows(&self, p: usize, f: impl Fn(&[f64], &[Hom]) -> (Vec<f64>, Vec<Hom>)) -> Self {
+        let mut knots = Vec::new();
+        let cols: Vec<Vec<Hom>> = self
+            .u_rows()
+            .iter()
+            .map(|c| {
+                let (k, q) = f(self.u_knots.as_slice(), c);
+                knots = k;
+                q
+            })
+            .collect();
+        self.with_u_rows(p, knots, &cols)
+    }
+
+    /// [`map_u_rows`](Self::map_u_rows) in v: `f` runs on every row of the net.
+    fn map_v_rows(&self, q: usize, f: impl Fn(&[f64], &[Hom]) -> (Vec<f64>, Vec<Hom>)) -> Self {
+        let mut knots = Vec::new();
+        let rows: Vec<Vec<Hom>> = self
+            .v_rows()
+            .iter()
+            .map(|r| {
+                let (k, h) = f(self.v_knots.as_slice(), r);
+                knots = k;
+                h
+            })
+            .collect();
+        self.with_v_rows(q, knots, &rows)
+    }
+
+    /// The same surface with clamped knot vectors in both directions (exact; a clamped
+    /// surface comes back unchanged).
+    pub fn clamped(&self) -> Self {
+        let (p, q) = (self.u_degree, self.v_degree);
+        let mut c = self.clone();
+        if !c.u_knots.is_clamped(p) {
+            c = c.map_u_rows(p, |k, h| clamp_hom(p, k, h));
+        }
+        if !c.v_knots.is_clamped(q) {
+            c = c.map_v_rows(q, |k, h| clamp_hom(q, k, h));
+        }
+        c
+    }
+
     /// The same surface with u and v exchanged: `t.eval(v, u) == s.eval(u, v)`.
     pub fn transposed(&self) -> Self {
         let mut pts = Vec::with_capacity(self.control_points.len());
@@ -373,17 +412,7 @@ impl NurbsSurface {
         if r == 0 {
             return Ok(0);
         }
-        let mut knots = Vec::new();
-        let cols: Vec<Vec<Hom>> = self
-            .u_rows()
-            .iter()
-            .map(|c| {
-                let (k2, q) = algo::insert_knot(p, self.u_knots.as_slice(), c, u, k, s, r);
-                knots = k2;
-                q
-            })
-            .collect();
-        *self = self.with_u_rows(p, knots, &cols);
+        *self = self.map_u_rows(p, |knots, c| algo::insert_knot(p, knots, c, u, k, s, r));
         Ok(r)
     }
 
@@ -412,17 +441,7 @@ impl NurbsSurface {
             return Ok(());
         }
         let p = self.u_degree;
-        let mut knots = Vec::new();
-        let cols: Vec<Vec<Hom>> = self
-            .u_rows()
-            .iter()
-            .map(|c| {
-                let (k2, q) = algo::refine(p, self.u_knots.as_slice(), c, &x);
-                knots = k2;
-                q
-            })
-            .collect();
-        *self = self.with_u_rows(p, knots, &cols);
+        *self = self.map_u_rows(p, |knots, c| algo::refine(p, knots, c, &x));
         Ok(())
     }
 
@@ -437,17 +456,7 @@ impl NurbsSurface {
             return Ok(());
         }
         let q = self.v_degree;
-        let mut knots = Vec::new();
-        let rows: Vec<Vec<Hom>> = self
-            .v_rows()
-            .iter()
-            .map(|r| {
-                let (k2, pw) = algo::refine(q, self.v_knots.as_slice(), r, &x);
-                knots = k2;
-                pw
-            })
-            .collect();
-        *self = self.with_v_rows(q, knots, &rows);
+        *self = self.map_v_rows(q, |knots, r| algo::refine(q, knots, r, &x));
         Ok(())
     }
 
@@ -493,18 +502,10 @@ impl NurbsSurface {
             return Err(Error::Degree { degree: self.u_degree + t });
         }
         let p = self.u_degree;
-        let mut knots = Vec::new();
-        let cols: Vec<Vec<Hom>> = self
-            .u_rows()
-            .iter()
-            .map(|c| {
-                let (ck, cp) = clamp_hom(p, self.u_knots.as_slice(), c);
-                let (k2, q) = algo::elevate_degree(p, &ck, &cp, t);
-                knots = k2;
-                q
-            })
-            .collect();
-        *self = self.with_u_rows(p + t, knots, &cols);
+        *self = self.map_u_rows(p + t, |knots, c| {
+            let (ck, cp) = clamp_hom(p, knots, c);
+            algo::elevate_degree(p, &ck, &cp, t)
+        });
         Ok(())
     }
 
@@ -532,36 +533,7 @@ impl NurbsSurface {
             }
             (values, x)
         };
-        let mut c = self.clone();
-        if !c.u_knots.is_clamped(c.u_degree) || !c.v_knots.is_clamped(c.v_degree) {
-            // Clamp both directions through their rows (exact).
-            let p = c.u_degree;
-            let mut knots = Vec::new();
-            let cols: Vec<Vec<Hom>> = c
-                .u_rows()
-                .iter()
-                .map(|col| {
-                    let (k, q) = clamp_hom(p, c.u_knots.as_slice(), col);
-                    knots = k;
-                    q
-                })
-                .collect();
-            c = c.with_u_rows(p, knots, &cols);
-            let mut t = c.transposed();
-            let q = t.u_degree;
-            let mut knots = Vec::new();
-            let cols: Vec<Vec<Hom>> = t
-                .u_rows()
-                .iter()
-                .map(|col| {
-                    let (k, h) = clamp_hom(q, t.u_knots.as_slice(), col);
-                    knots = k;
-                    h
-                })
-                .collect();
-            t = t.with_u_rows(q, knots, &cols);
-            c = t.transposed();
-        }
+        let mut c = self.clamped();
         let (p, q) = (c.u_degree, c.v_degree);
         let (uvals, xu) = full(&c.u_knots, p);
         let (vvals, xv) = full(&c.v_knots, q);

@@ -122,3 +122,14 @@ pub mod harness {
         run(&args)
     }
 }
+
+/// The surface of the side-by-side NURBS benchmark (`benches/occt/README.md`): degree
+/// 3 × 3, 10 × 10 poles `P[i][j] = (i, j, sin i · cos j)`, clamped uniform knots on [0, 1]².
+pub fn occt_bench_surface() -> cadmorph_nurbs::NurbsSurface {
+    use cadmorph_nurbs::{math::Point3, KnotVector, NurbsSurface};
+    let pts = (0..10)
+        .flat_map(|i| (0..10).map(move |j| Point3::new(i as f64, j as f64, (i as f64).sin() * (j as f64).cos())))
+        .collect();
+    let k = || KnotVector::clamped_uniform(3, 10);
+    NurbsSurface::new((3, 3), (k(), k()), (10, 10), pts, None)
+}
