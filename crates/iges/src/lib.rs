@@ -1,1 +1,13 @@
-//! IGES 5.3 lossless reader/writer with NURBS views of every surface (being written; see the issue).
+//! IGES 5.3 lossless reader/writer with NURBS views of every surface.
+
+mod document;
+pub mod entity;
+mod error;
+mod global;
+mod read;
+pub mod write;
+
+pub use document::{Directory, Document, Entity, EntityId, Param, Status, Value};
+pub use entity::View;
+pub use error::{Error, Position, Result};
+pub use global::{Global, Units};

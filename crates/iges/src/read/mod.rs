@@ -1,0 +1,453 @@
+//! Reading: lines and sections, the Global section, directory entries, parameter records.
+
+pub(crate) mod lexer;
+
+use crate::document::{Directory, Document, Entity, EntityId, Layout, Line, PBlock, Status};
+use crate::error::{snippet, Error, Position, Result};
+use crate::global::Global;
+use lexer::{hollerith_at, tokenize, LexError, Raw, Token};
+
+/// Width of the data field of a P line (columns 1–64).
+pub(crate) const P_WIDTH: usize = 64;
+/// Width of the data field of an S or G line (columns 1–72).
+pub(crate) const G_WIDTH: usize = 72;
+
+fn pos(section: char, line: usize, column: usize, entity: Option<u32>) -> Position {
+    Position { section, line, column, entity }
+}
+
+/// Splits the input into lines (LF, CRLF or CR), or into 80-byte records if it has no
+/// line terminators at all.
+fn split_lines(src: &[u8]) -> Vec<Line> {
+    let mut lines = Vec::with_capacity(src.len() / 81 + 1);
+    let has_eol = src.iter().any(|&b| b == b'\n' || b == b'\r');
+    if !has_eol && src.len() > 80 {
+        let mut s = 0;
+        while s < src.len() {
+            let e = (s + 80).min(src.len());
+            lines.push(Line { start: s, end: e, next: e });
+            s = e;
+        }
+        return lines;
+    }
+    let mut s = 0;
+    let mut i = 0;
+    while i < src.len() {
+        match src[i] {
+            b'\n' => {
+                let end = if i > s && src[i - 1] == b'\r' { i - 1 } else { i };
+                lines.push(Line { start: s, end, next: i + 1 });
+                s = i + 1;
+            }
+            b'\r' if src.get(i + 1) != Some(&b'\n') => {
+                lines.push(Line { start: s, end: i, next: i + 1 });
+                s = i + 1;
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    if s < src.len() {
+        lines.push(Line { start: s, end: src.len(), next: src.len() });
+    }
+    lines
+}
+
+fn is_blank_line(b: &[u8]) -> bool {
+    b.iter().all(|&c| c == b' ' || c == b'\t' || c == 0x1a)
+}
+
+/// Finds the sections; checks letters and order.
+fn sections(src: &[u8], lines: &[Line]) -> Result<Layout> {
+    const ORDER: [u8; 5] = [b'S', b'G', b'D', b'P', b'T'];
+    let mut first = [usize::MAX; 5];
+    let mut last = [0usize; 5];
+    let mut current = 0usize;
+    let mut terminate = None;
+    for (k, l) in lines.iter().enumerate() {
+        let text = &src[l.start..l.end];
+        if terminate.is_some() {
+            if is_blank_line(text) {
+                continue;
+            }
+            return Err(Error::Section {
+                at: pos('T', k + 1, 1, None),
+                expected: "nothing after the Terminate record",
+                found: snippet(text),
+            });
+        }
+        if text.len() < 73 {
+            if is_blank_line(text) && k + 1 == lines.len() {
+                continue;
+            }
+            let section = if current == 0 && first[0] == usize::MAX { '?' } else { ORDER[current] as char };
+            return Err(Error::Section {
+                at: pos(section, k + 1, text.len() + 1, None),
+                expected: "a record with its section letter in column 73",
+                found: format!("a line of {} characters", text.len()),
+            });
+        }
+        let letter = text[72];
+        let Some(s) = ORDER.iter().position(|&c| c == letter) else {
+            let (expected, section) = match letter {
+                b'B' | b'C' | b'F' => ("the fixed ASCII form (binary and compressed IGES are not supported)", '?'),
+                _ => ("S, G, D, P or T in column 73", if k == 0 { '?' } else { ORDER[current] as char }),
+            };
+            return Err(Error::Section {
+                at: pos(section, k + 1, 73, None),
+                expected,
+                found: (letter as char).to_string(),
+            });
+        };
+        if s < current {
+            return Err(Error::Section {
+                at: pos(letter as char, k + 1, 73, None),
+                expected: "sections in the order S, G, D, P, T",
+                found: format!("{} after {}", letter as char, ORDER[current] as char),
+            });
+        }
+        current = s;
+        if first[s] == usize::MAX {
+            first[s] = k;
+        }
+        last[s] = k + 1;
+        if s == 4 {
+            terminate = Some(k);
+        }
+    }
+    let Some(terminate) = terminate else {
+        let line = lines.len();
+        return Err(Error::Truncated {
+            at: pos(ORDER[current] as char, line, 1, None),
+            what: "no Terminate (T) record",
+        });
+    };
+    // Empty sections sit where the next one starts.
+    let mut range = |s: usize| {
+        if first[s] == usize::MAX {
+            let at = (s + 1..5).map(|t| first[t]).find(|&f| f != usize::MAX).unwrap_or(terminate);
+            at..at
+        } else {
+            first[s]..last[s]
+        }
+    };
+    let layout = Layout {
+        start: range(0),
+        global: range(1),
+        directory: range(2),
+        parameter: range(3),
+        terminate,
+        trailer: lines[terminate].next,
+    };
+    if layout.global.is_empty() {
+        return Err(Error::Truncated { at: pos('G', layout.global.start + 1, 1, None), what: "no Global (G) section" });
+    }
+    Ok(layout)
+}
+
+fn lex_position(err: &LexError, map: &dyn Fn(usize) -> Position) -> Error {
+    match err {
+        LexError::Number { offset, found } => {
+            Error::Syntax { at: map(*offset), expected: "a number or a Hollerith string", found: found.clone() }
+        }
+        LexError::Hollerith { offset, length } => {
+            Error::Hollerith { at: map(*offset), length: *length, within: "record" }
+        }
+        LexError::Delimiter { offset, found } => {
+            Error::Syntax { at: map(*offset), expected: "a parameter or record delimiter", found: found.clone() }
+        }
+        LexError::NoRecordEnd { offset } => {
+            Error::Truncated { at: map(*offset), what: "the record ends without its record delimiter" }
+        }
+    }
+}
+
+/// Parses the Global section text (columns 1–72 of its lines, concatenated).
+fn global(src: &[u8], lines: &[Line], layout: &Layout) -> Result<Global> {
+    let mut text = Vec::with_capacity(layout.global.len() * G_WIDTH);
+    for l in &lines[layout.global.clone()] {
+        text.extend_from_slice(&src[l.start..l.start + G_WIDTH]);
+    }
+    let g0 = layout.global.start;
+    let map = |off: usize| pos('G', g0 + off / G_WIDTH + 1, off % G_WIDTH + 1, None);
+    let mut tokens = Vec::new();
+    // Parameters 1 and 2 name the delimiters, so they are read before the others.
+    let mut i = 0;
+    while i < text.len() && text[i] == b' ' {
+        i += 1;
+    }
+    let mut delimiter = |i: &mut usize, pd: Option<u8>, default: u8| -> Result<u8> {
+        if let Some((n, first)) = hollerith_at(&text, *i) {
+            if n != 1 || first >= text.len() {
+                return Err(Error::Syntax {
+                    at: map(*i),
+                    expected: "a one-character Hollerith delimiter (1Hx)",
+                    found: snippet(&text[*i..]),
+                });
+            }
+            tokens.push(Token { offset: *i as u32, raw: Raw::Text { start: first as u32, len: 1 } });
+            *i = first + 1;
+            Ok(text[first])
+        } else {
+            // Defaulted: the next character must be the parameter delimiter.
+            let pd = pd.unwrap_or(b',');
+            if text.get(*i) != Some(&pd) {
+                return Err(Error::Syntax {
+                    at: map(*i),
+                    expected: "a delimiter given as 1Hx or defaulted",
+                    found: snippet(&text[(*i).min(text.len())..]),
+                });
+            }
+            tokens.push(Token { offset: *i as u32, raw: Raw::Default });
+            Ok(default)
+        }
+    };
+    let pd = delimiter(&mut i, None, b',')?;
+    if text.get(i) != Some(&pd) {
+        return Err(Error::Syntax {
+            at: map(i),
+            expected: "the parameter delimiter after parameter 1",
+            found: snippet(&text[i.min(text.len())..]),
+        });
+    }
+    i += 1;
+    let rd = delimiter(&mut i, Some(pd), b';')?;
+    match text.get(i) {
+        Some(&c) if c == rd => {}
+        Some(&c) if c == pd => {
+            tokenize(&text, i + 1, pd, rd, &mut tokens).map_err(|e| match e {
+                LexError::Hollerith { offset, length } => {
+                    Error::Hollerith { at: map(offset), length, within: "global section" }
+                }
+                e => lex_position(&e, &map),
+            })?;
+        }
+        _ => {
+            return Err(Error::Syntax {
+                at: map(i),
+                expected: "a delimiter after parameter 2",
+                found: snippet(&text[i.min(text.len())..]),
+            })
+        }
+    }
+    Ok(Global { text, tokens, parameter_delimiter: pd, record_delimiter: rd })
+}
+
+/// Reads an 8-column integer field; blanks are 0.
+fn field(line: &[u8], k: usize, at: Position) -> Result<i64> {
+    let f = &line[8 * k..8 * k + 8];
+    let t = trim(f);
+    if t.is_empty() {
+        return Ok(0);
+    }
+    match lexer::parse_number(t) {
+        Some(Raw::Integer(n)) => Ok(n),
+        _ => Err(Error::Syntax { at, expected: "an integer field", found: snippet(f) }),
+    }
+}
+
+fn trim(b: &[u8]) -> &[u8] {
+    let s = b.iter().position(|&c| c != b' ').unwrap_or(b.len());
+    let e = b.iter().rposition(|&c| c != b' ').map_or(s, |e| e + 1);
+    &b[s..e]
+}
+
+fn status(f: &[u8], at: Position) -> Result<Status> {
+    let mut v = [0u8; 4];
+    for (k, pair) in f.chunks(2).enumerate() {
+        let mut n = 0u8;
+        for &c in pair {
+            n = match c {
+                b' ' => n * 10,
+                b'0'..=b'9' => n * 10 + (c - b'0'),
+                _ => {
+                    return Err(Error::Syntax { at, expected: "an 8-digit status number", found: snippet(f) });
+                }
+            };
+        }
+        v[k] = n;
+    }
+    Ok(Status { blank: v[0], subordinate: v[1], entity_use: v[2], hierarchy: v[3] })
+}
+
+fn directory(a: &[u8], b: &[u8], line: usize, entries: usize) -> Result<Directory> {
+    let at = |l: usize, k: usize| pos('D', l, 8 * k + 1, Some((2 * entries + 1) as u32));
+    let ty = field(a, 0, at(line, 0))?;
+    let entity_type = u32::try_from(ty).map_err(|_| Error::Syntax {
+        at: at(line, 0),
+        expected: "a non-negative entity type",
+        found: ty.to_string(),
+    })?;
+    let ty2 = field(b, 0, at(line + 1, 0))?;
+    if ty2 != ty && !trim(&b[0..8]).is_empty() {
+        return Err(Error::Mismatch {
+            at: at(line + 1, 0),
+            expected: format!("entity type {ty} (field 1)"),
+            found: format!("entity type {ty2} (field 11)"),
+        });
+    }
+    Ok(Directory {
+        entity_type,
+        parameter_data: field(a, 1, at(line, 1))?,
+        structure: field(a, 2, at(line, 2))?,
+        line_font: field(a, 3, at(line, 3))?,
+        level: field(a, 4, at(line, 4))?,
+        view: field(a, 5, at(line, 5))?,
+        transform: field(a, 6, at(line, 6))?,
+        label_display: field(a, 7, at(line, 7))?,
+        status: status(&a[64..72], at(line, 8))?,
+        line_weight: field(b, 1, at(line + 1, 1))?,
+        color: field(b, 2, at(line + 1, 2))?,
+        parameter_lines: field(b, 3, at(line + 1, 3))?,
+        form: field(b, 4, at(line + 1, 4))?,
+        label: String::from_utf8_lossy(trim(&b[56..64])).into_owned(),
+        subscript: field(b, 8, at(line + 1, 8))?,
+    })
+}
+
+/// Reads the whole document.
+pub(crate) fn parse(bytes: &[u8]) -> Result<Document> {
+    let lines = split_lines(bytes);
+    let layout = sections(bytes, &lines)?;
+    let global = global(bytes, &lines, &layout)?;
+    let (pd, rd) = (global.parameter_delimiter, global.record_delimiter);
+
+    let d = layout.directory.clone();
+    if d.len() % 2 == 1 {
+        return Err(Error::Truncated {
+            at: pos('D', d.end, 1, None),
+            what: "the D section has an odd number of lines (each entry has two)",
+        });
+    }
+    let n = d.len() / 2;
+    let n_p = layout.parameter.len();
+    let p0 = layout.parameter.start;
+    let mut entities: Vec<Entity> = Vec::with_capacity(n);
+    for k in 0..n {
+        let la = d.start + 2 * k;
+        let a = &bytes[lines[la].start..lines[la].end];
+        let b = &bytes[lines[la + 1].start..lines[la + 1].end];
+        let dir = directory(a, b, la + 1, k)?;
+        let id = EntityId::from_index(k);
+        let (first, count) = (dir.parameter_data, dir.parameter_lines);
+        let fits = first >= 1 && count >= 1 && first.checked_add(count).is_some_and(|e| e - 1 <= n_p as i64);
+        if !fits {
+            return Err(Error::ParamRange {
+                at: pos('D', la + 1, 9, Some(id.0)),
+                first,
+                count,
+                available: n_p,
+                detail: "",
+            });
+        }
+        let (p_first, p_count) = ((first - 1) as usize, count as usize);
+        let mut text = Vec::with_capacity(p_count * P_WIDTH);
+        for l in &lines[p0 + p_first..p0 + p_first + p_count] {
+            text.extend_from_slice(&bytes[l.start..l.start + P_WIDTH]);
+        }
+        // Columns 65–72 of the first line point back to the entry.
+        let first_line = &bytes[lines[p0 + p_first].start..lines[p0 + p_first].end];
+        let back = trim(&first_line[64..72]);
+        if !back.is_empty() && lexer::parse_number(back) != Some(Raw::Integer(i64::from(id.0))) {
+            return Err(Error::Mismatch {
+                at: pos('P', p0 + p_first + 1, 65, Some(id.0)),
+                expected: format!("a record of DE {}", id.0),
+                found: format!("a record of DE {}", String::from_utf8_lossy(back)),
+            });
+        }
+        let p_line = p0 + p_first + 1;
+        let map = |off: usize| pos('P', p_line + off / P_WIDTH, off % P_WIDTH + 1, Some(id.0));
+        let mut tokens = Vec::new();
+        tokenize(&text, 0, pd, rd, &mut tokens).map_err(|e| lex_position(&e, &map))?;
+        if tokens.first().map(|t| t.raw) != Some(Raw::Integer(i64::from(dir.entity_type))) {
+            return Err(Error::Mismatch {
+                at: map(0),
+                expected: format!("entity type {} first", dir.entity_type),
+                found: snippet(&text[..text.len().min(16)]),
+            });
+        }
+        entities.push(Entity {
+            id,
+            directory: dir,
+            text,
+            tokens,
+            p_first,
+            p_count,
+            p_line,
+            d_line: la + 1,
+            new_lines: None,
+            directory_changed: false,
+        });
+    }
+    // Directory pointers that must name an entry.
+    for e in &entities {
+        let dir = &e.directory;
+        let checks = [
+            (dir.transform, 49, true),
+            (dir.view, 41, true),
+            (dir.label_display, 57, true),
+            (-dir.structure, 17, false),
+            (-dir.line_font, 25, false),
+            (-dir.level, 33, false),
+        ];
+        for (target, column, positive_is_pointer) in checks {
+            let is_pointer = if positive_is_pointer { target != 0 } else { target > 0 };
+            if is_pointer && !(target > 0 && target % 2 == 1 && ((target - 1) / 2) < n as i64) {
+                return Err(Error::DanglingPointer { at: e.directory_position(column), target, entries: n });
+            }
+        }
+        if dir.color < 0 && !(-dir.color % 2 == 1 && ((-dir.color - 1) / 2) < n as i64) {
+            return Err(Error::DanglingPointer {
+                at: pos('D', e.d_line + 1, 17, Some(e.id.0)),
+                target: dir.color,
+                entries: n,
+            });
+        }
+        if dir.transform > 0 && entities[((dir.transform - 1) / 2) as usize].entity_type() != 124 {
+            return Err(Error::Mismatch {
+                at: e.directory_position(49),
+                expected: "a pointer to a transformation matrix (124)".into(),
+                found: format!("type {}", entities[((dir.transform - 1) / 2) as usize].entity_type()),
+            });
+        }
+    }
+    // The P section in line order: entity records and any lines nobody points to.
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by_key(|&k| entities[k].p_first);
+    let mut p_blocks = Vec::with_capacity(n);
+    let mut next = 0usize;
+    for &k in &order {
+        let e = &entities[k];
+        if e.p_first < next {
+            return Err(Error::ParamRange {
+                at: pos('D', e.d_line, 9, Some(e.id.0)),
+                first: e.p_first as i64 + 1,
+                count: e.p_count as i64,
+                available: n_p,
+                detail: " (overlaps another entity's lines)",
+            });
+        }
+        if e.p_first > next {
+            p_blocks.push(PBlock::Loose(next..e.p_first));
+        }
+        p_blocks.push(PBlock::Entity(k));
+        next = e.p_first + e.p_count;
+    }
+    if next < n_p {
+        p_blocks.push(PBlock::Loose(next..n_p));
+    }
+    let zero_padded = lines.first().is_some_and(|l| bytes.get(l.start + 73) == Some(&b'0'));
+    Ok(Document { source: bytes.to_vec(), lines, layout, global, entities, p_blocks, edited: false, zero_padded })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_endings() {
+        let l = split_lines(b"a\r\nb\nc\rd");
+        let spans: Vec<_> = l.iter().map(|l| (l.start, l.end, l.next)).collect();
+        assert_eq!(spans, vec![(0, 1, 3), (3, 4, 5), (5, 6, 7), (7, 8, 8)]);
+    }
+}

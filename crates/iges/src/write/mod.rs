@@ -1,0 +1,258 @@
+//! Writing: the unchanged document verbatim, edited documents with renumbered P lines,
+//! and the text form of parameter values.
+
+mod new;
+
+pub use new::DocumentBuilder;
+
+use crate::document::{Document, PBlock, Value};
+use crate::read::P_WIDTH;
+
+/// The shortest IGES real constant that reads back to the same `f64` bits: always with a
+/// decimal point, and an `E` exponent outside `1e-5 ≤ |x| < 1e15`.
+///
+/// ```
+/// use cadmorph_iges::write::format_real;
+/// assert_eq!(format_real(1.0), "1.");
+/// assert_eq!(format_real(-0.25), "-0.25");
+/// assert_eq!(format_real(1e-7), "1.E-7");
+/// assert_eq!(format_real(0.1 + 0.2).parse::<f64>().unwrap(), 0.1 + 0.2);
+/// ```
+pub fn format_real(x: f64) -> String {
+    let a = x.abs();
+    if a == 0.0 || (1e-5..1e15).contains(&a) {
+        let mut s = format!("{x}");
+        if !s.contains('.') {
+            s.push('.');
+        }
+        s
+    } else {
+        let s = format!("{x:e}");
+        let (mantissa, exp) = s.split_once('e').unwrap_or((&s, "0"));
+        let dot = if mantissa.contains('.') { "" } else { "." };
+        format!("{mantissa}{dot}E{exp}")
+    }
+}
+
+/// The text of one parameter value.
+pub(crate) fn format_value(v: &Value, out: &mut Vec<u8>) {
+    match v {
+        Value::Default => {}
+        Value::Integer(i) => out.extend_from_slice(i.to_string().as_bytes()),
+        Value::Real(x) => out.extend_from_slice(format_real(*x).as_bytes()),
+        Value::Text(t) => {
+            out.extend_from_slice(t.len().to_string().as_bytes());
+            out.push(b'H');
+            out.extend_from_slice(t);
+        }
+    }
+}
+
+/// Lays a record out in lines of at most `width` columns: each value followed by the
+/// parameter delimiter, the last by the record delimiter. Numbers never straddle lines;
+/// strings longer than a line are split (Hollerith strings may continue on the next line).
+pub(crate) fn layout_record(values: &[Value], pd: u8, rd: u8, width: usize) -> Vec<Vec<u8>> {
+    let mut lines: Vec<Vec<u8>> = vec![Vec::with_capacity(width)];
+    let mut tok = Vec::new();
+    for (k, v) in values.iter().enumerate() {
+        tok.clear();
+        format_value(v, &mut tok);
+        tok.push(if k + 1 == values.len() { rd } else { pd });
+        let cur = lines.last_mut().expect("one line");
+        if cur.len() + tok.len() <= width {
+            cur.extend_from_slice(&tok);
+        } else if tok.len() <= width && !matches!(v, Value::Text(_)) {
+            lines.push(tok.clone());
+        } else {
+            // A long string: fill the line, continue on the next ones.
+            let mut rest = &tok[..];
+            loop {
+                let cur = lines.last_mut().expect("one line");
+                let room = width - cur.len();
+                let take = room.min(rest.len());
+                cur.extend_from_slice(&rest[..take]);
+                rest = &rest[take..];
+                if rest.is_empty() {
+                    break;
+                }
+                lines.push(Vec::with_capacity(width));
+            }
+        }
+    }
+    if values.is_empty() {
+        lines[0].push(rd);
+    }
+    lines
+}
+
+/// A sequence-number field (7 columns) in the file's style.
+pub(crate) fn seq(n: usize, zero_padded: bool) -> String {
+    if zero_padded {
+        format!("{n:07}")
+    } else {
+        format!("{n:>7}")
+    }
+}
+
+fn put_line(out: &mut Vec<u8>, body: &[u8], width: usize, tail: &[u8], eol: &[u8]) {
+    out.extend_from_slice(body);
+    out.resize(out.len() + width.saturating_sub(body.len()), b' ');
+    out.extend_from_slice(tail);
+    out.extend_from_slice(eol);
+}
+
+/// Replaces the 8-column field `k` of a D line by `value`, right-justified.
+fn patch_field(line: &mut [u8], k: usize, value: i64) {
+    let s = format!("{value:>8}");
+    if s.len() == 8 {
+        line[8 * k..8 * k + 8].copy_from_slice(s.as_bytes());
+    }
+}
+
+/// Writes the document (see [`Document::write`]).
+pub(crate) fn write(doc: &Document) -> Vec<u8> {
+    if !doc.edited {
+        return doc.source.clone();
+    }
+    let layout = &doc.layout;
+    let eol = doc.eol().to_vec();
+    let mut out = Vec::with_capacity(doc.source.len() + 4096);
+    // S and G lines verbatim.
+    let head_end = doc.lines[layout.directory.start.min(layout.terminate)].start;
+    let head_start = doc.lines.first().map_or(0, |l| l.start);
+    out.extend_from_slice(&doc.source[head_start..head_end]);
+
+    // New P positions.
+    let mut new_first = vec![0usize; doc.entities.len()];
+    let mut new_count = vec![0usize; doc.entities.len()];
+    let mut next = 0usize;
+    for b in &doc.p_blocks {
+        match b {
+            PBlock::Entity(k) => {
+                let e = &doc.entities[*k];
+                new_first[*k] = next;
+                new_count[*k] = e.new_lines.as_ref().map_or(e.p_count, Vec::len);
+                next += new_count[*k];
+            }
+            PBlock::Loose(r) => next += r.len(),
+        }
+    }
+    let p_total = next;
+
+    // D section.
+    for (k, e) in doc.entities.iter().enumerate() {
+        let la = layout.directory.start + 2 * k;
+        let moved = new_first[k] != e.p_first || new_count[k] != e.p_count;
+        if !moved && !e.directory_changed {
+            out.extend_from_slice(doc.line_with_eol(la));
+            out.extend_from_slice(doc.line_with_eol(la + 1));
+            continue;
+        }
+        let mut a = doc.line_bytes(la).to_vec();
+        let mut b = doc.line_bytes(la + 1).to_vec();
+        patch_field(&mut a, 1, new_first[k] as i64 + 1);
+        patch_field(&mut b, 3, new_count[k] as i64);
+        if e.directory_changed {
+            patch_field(&mut a, 0, i64::from(e.directory.entity_type));
+            patch_field(&mut b, 0, i64::from(e.directory.entity_type));
+            patch_field(&mut b, 4, e.directory.form);
+        }
+        out.extend_from_slice(&a);
+        out.extend_from_slice(&doc.source[doc.lines[la].end..doc.lines[la].next]);
+        out.extend_from_slice(&b);
+        out.extend_from_slice(&doc.source[doc.lines[la + 1].end..doc.lines[la + 1].next]);
+    }
+
+    // P section.
+    let p0 = layout.parameter.start;
+    let mut n = 0usize;
+    let copy_line = |out: &mut Vec<u8>, li: usize, n: usize| {
+        let l = doc.lines[li];
+        if li - p0 == n {
+            out.extend_from_slice(&doc.source[l.start..l.next]);
+        } else {
+            let text = &doc.source[l.start..l.end];
+            out.extend_from_slice(&text[..73]);
+            out.extend_from_slice(seq(n + 1, doc.zero_padded).as_bytes());
+            if text.len() > 80 {
+                out.extend_from_slice(&text[80..]);
+            }
+            out.extend_from_slice(&doc.source[l.end..l.next]);
+        }
+    };
+    for b in &doc.p_blocks {
+        match b {
+            PBlock::Loose(r) => {
+                for li in r.clone() {
+                    copy_line(&mut out, p0 + li, n);
+                    n += 1;
+                }
+            }
+            PBlock::Entity(k) => {
+                let e = &doc.entities[*k];
+                match &e.new_lines {
+                    None => {
+                        for li in e.p_first..e.p_first + e.p_count {
+                            copy_line(&mut out, p0 + li, n);
+                            n += 1;
+                        }
+                    }
+                    Some(new) => {
+                        let first = doc.line_bytes(p0 + e.p_first);
+                        let back = first[64..72].to_vec();
+                        for body in new {
+                            let mut tail = back.clone();
+                            tail.push(b'P');
+                            tail.extend_from_slice(seq(n + 1, doc.zero_padded).as_bytes());
+                            put_line(&mut out, body, P_WIDTH, &tail, &eol);
+                            n += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    // T record: patch the P count.
+    let t = layout.terminate;
+    let old_p = layout.parameter.len();
+    if p_total == old_p {
+        out.extend_from_slice(doc.line_with_eol(t));
+    } else {
+        let mut line = doc.line_bytes(t).to_vec();
+        let s = seq(p_total, doc.zero_padded);
+        if line.len() >= 32 && line[24] == b'P' && s.len() == 7 {
+            line[25..32].copy_from_slice(s.as_bytes());
+        }
+        out.extend_from_slice(&line);
+        out.extend_from_slice(&doc.source[doc.lines[t].end..doc.lines[t].next]);
+    }
+    out.extend_from_slice(&doc.source[layout.trailer..]);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reals_round_trip() {
+        for x in [0.0, -0.0, 1.0, -1.5, 1e-5, 9.99e-6, 1e15, 123456789.125, 1e300, -4.9e-324, 0.1 + 0.2] {
+            let s = format_real(x);
+            assert!(s.contains('.'), "{s}");
+            let back = crate::read::lexer::parse_number(s.as_bytes());
+            assert_eq!(back, Some(crate::read::lexer::Raw::Real(x)), "{s}");
+        }
+    }
+
+    #[test]
+    fn records_fill_lines() {
+        let v: Vec<Value> = (0..40).map(|i| Value::Real(i as f64 * 0.125)).collect();
+        let lines = layout_record(&v, b',', b';', 64);
+        assert!(lines.iter().all(|l| l.len() <= 64));
+        assert_eq!(*lines.last().unwrap().last().unwrap(), b';');
+        let long = vec![Value::Integer(406), Value::Text(vec![b'x'; 150])];
+        let lines = layout_record(&long, b',', b';', 64);
+        assert_eq!(lines.iter().map(Vec::len).sum::<usize>(), 4 + 4 + 150 + 1);
+    }
+}
