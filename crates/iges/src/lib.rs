@@ -1,5 +1,6 @@
 //! IGES 5.3 lossless reader/writer with NURBS views of every surface.
 
+pub mod convert;
 mod document;
 pub mod entity;
 mod error;
@@ -7,6 +8,7 @@ mod global;
 mod read;
 pub mod write;
 
+pub use convert::{FaceRef, NurbsInfo, SurfaceInfo};
 pub use document::{Directory, Document, Entity, EntityId, Param, Status, Value};
 pub use entity::View;
 pub use error::{Error, Position, Result};

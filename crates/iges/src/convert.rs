@@ -1,0 +1,801 @@
+//! Conversion of curves, surfaces and faces to cadmorph-nurbs types in model units.
+//!
+//! Every conversion is exact (no approximation): analytic curves and surfaces become
+//! rational NURBS through `cadmorph_nurbs::analytic`, polynomial splines (112, 114)
+//! become B-splines by a change of basis. Parameterisations follow OpenCASCADE's reading
+//! of the same entity, so that OCCT's `(u, v)` map to cadmorph's through the
+//! [`ParamMap`]s of the returned [`ExactSurface`]:
+//!
+//! | entity | u | v |
+//! | --- | --- | --- |
+//! | 108 plane, 190 | along X of the plane's frame (OCCT `gp_Ax3` rule) | along Y |
+//! | 120 revolution | angle (arc map) | generatrix parameter |
+//! | 122 tabulated cylinder | directrix parameter | length along the generatrix |
+//! | 192 / 194 / 196 / 198 | angle (arc map) | axial length / cone length / latitude / angle |
+//! | 110 line | length from the start point | |
+//! | 100 arc | angle | |
+//!
+//! One OCCT quirk: when a 120 carries a reflecting 124 matrix (determinant −1), OCCT
+//! transforms the axis *direction* and so runs the angle the other way: OCCT's `u` is
+//! cadmorph's `−u` (mod 2π). The geometry is the same.
+//!
+//! Unbounded surfaces (108, 190–194) are cut to the box of the boundary curves of the face
+//! that uses them (144 / 143 / 510), with a 1 % margin, or fail with
+//! [`Error::Unsupported`] when nothing bounds them.
+
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+use cadmorph_nurbs::analytic::{
+    AnalyticCurve, AnalyticSurface, Circle, Cone, Cylinder, ExactSurface, Extrusion, ParamMap, Placement, Revolution,
+    Sphere, Torus,
+};
+use cadmorph_nurbs::{Curve, KnotVector, NurbsCurve, NurbsSurface};
+use nalgebra::{Matrix4, Point3, Vector3};
+
+use crate::document::{Document, EntityId};
+use crate::entity::View;
+use crate::error::{Error, Result};
+
+/// Deepest chain of 124 matrices or of nested curves followed.
+const MAX_DEPTH: usize = 64;
+/// Margin added around boundary boxes of unbounded surfaces (fraction of the extent).
+const BOX_MARGIN: f64 = 0.01;
+
+/// A face of the model: the entity that makes it (144, 143, 510, or a bare surface) and
+/// its underlying surface entity.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FaceRef {
+    /// The face entity (144, 143, 510) or the bare surface.
+    pub face: EntityId,
+    /// The surface entity under it (equal to `face` for bare surfaces).
+    pub surface: EntityId,
+    /// Whether the face trims its surface (144 with boundaries, 143, 510).
+    pub trimmed: bool,
+}
+
+/// What [`Document::surfaces`] reports for one face's surface.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceInfo {
+    /// The face entity.
+    pub face: EntityId,
+    /// The surface entity.
+    pub surface: EntityId,
+    /// Surface entity type.
+    pub entity_type: u32,
+    /// Surface form number.
+    pub form: i64,
+    /// Whether the face trims the surface.
+    pub trimmed: bool,
+    /// The exact NURBS form's degrees, pole counts and rationality, or why there is none.
+    pub nurbs: std::result::Result<NurbsInfo, Error>,
+}
+
+/// Degrees, pole counts and rationality of a NURBS surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NurbsInfo {
+    /// Degree in u.
+    pub u_degree: usize,
+    /// Degree in v.
+    pub v_degree: usize,
+    /// Poles in u.
+    pub n_u: usize,
+    /// Poles in v.
+    pub n_v: usize,
+    /// Whether weights differ.
+    pub rational: bool,
+}
+
+impl NurbsInfo {
+    /// The numbers of `s`.
+    pub fn of(s: &NurbsSurface) -> Self {
+        Self { u_degree: s.u_degree(), v_degree: s.v_degree(), n_u: s.n_u(), n_v: s.n_v(), rational: s.is_rational() }
+    }
+}
+
+fn geometry(de: EntityId) -> impl Fn(cadmorph_nurbs::Error) -> Error {
+    move |source| Error::Geometry { de: de.0, source }
+}
+
+fn unsupported(doc: &Document, id: EntityId, reason: &'static str) -> Error {
+    let (t, f) = doc.entity(id).map_or((0, 0), |e| (e.entity_type(), e.form()));
+    Error::Unsupported { de: id.0, entity_type: t, form: f, reason }
+}
+
+fn identity(s: NurbsSurface) -> ExactSurface {
+    ExactSurface { surface: s, u_map: ParamMap::Identity, v_map: ParamMap::Identity }
+}
+
+/// OCCT's X direction for a frame with main direction `n` (`gp_Ax2(P, N)`): the axis of
+/// the smallest component of `n` is dropped and the other two swapped.
+pub(crate) fn default_x(n: &Vector3<f64>) -> Vector3<f64> {
+    let (a, b, c) = (n.x, n.y, n.z);
+    let (aa, ba, ca) = (a.abs(), b.abs(), c.abs());
+    if ba <= aa && ba <= ca {
+        if aa > ca {
+            Vector3::new(-c, 0.0, a)
+        } else {
+            Vector3::new(c, 0.0, -a)
+        }
+    } else if aa <= ba && aa <= ca {
+        if ba > ca {
+            Vector3::new(0.0, -c, b)
+        } else {
+            Vector3::new(0.0, c, -b)
+        }
+    } else if aa > ba {
+        Vector3::new(-b, a, 0.0)
+    } else {
+        Vector3::new(b, -a, 0.0)
+    }
+}
+
+/// Joins curves end to start into one (degrees raised to the highest, weights rescaled so
+/// the joints match; each joint becomes a knot of multiplicity `degree`, C0). The
+/// parameter of each piece is shifted to start where the previous one ended.
+pub fn join_curves(curves: &[NurbsCurve]) -> cadmorph_nurbs::Result<NurbsCurve> {
+    let p = curves.iter().map(NurbsCurve::degree).max().unwrap_or(1);
+    let rational = curves.iter().any(NurbsCurve::is_rational);
+    let mut knots: Vec<f64> = Vec::new();
+    let mut points: Vec<Point3<f64>> = Vec::new();
+    let mut weights: Vec<f64> = Vec::new();
+    for c in curves {
+        let mut c = c.clamped();
+        if c.degree() < p {
+            c.elevate_degree(p - c.degree())?;
+        }
+        let k = c.knots().as_slice();
+        let w: Vec<f64> = c.weights().map_or_else(|| vec![1.0; c.control_points().len()], <[f64]>::to_vec);
+        if knots.is_empty() {
+            knots.extend_from_slice(k);
+            points.extend_from_slice(c.control_points());
+            weights.extend_from_slice(&w);
+            continue;
+        }
+        let end = *knots.last().expect("knots");
+        let shift = end - k[0];
+        knots.pop();
+        knots.extend(k[p + 1..].iter().map(|x| x + shift));
+        let scale = weights.last().copied().unwrap_or(1.0) / w[0];
+        points.extend_from_slice(&c.control_points()[1..]);
+        weights.extend(w[1..].iter().map(|x| x * scale));
+    }
+    NurbsCurve::try_new(p, KnotVector::try_new(knots)?, points, rational.then_some(weights))
+}
+
+impl Document {
+    /// The matrix of an entity's transformation chain (directory field 7, then that
+    /// matrix's own field 7, ...): model space = `M · definition space`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Transform`] for chains that loop or exceed 64 matrices.
+    pub fn transform(&self, id: EntityId) -> Result<Matrix4<f64>> {
+        let mut m = Matrix4::identity();
+        let mut cur = self.entity(id)?.directory().transform;
+        let mut depth = 0;
+        while cur > 0 {
+            depth += 1;
+            if depth > MAX_DEPTH {
+                return Err(Error::Transform { de: id.0, reason: "transformation chain loops or is deeper than 64" });
+            }
+            let tid = EntityId(cur as u32);
+            let View::TransformationMatrix(t) = self.view(tid)? else {
+                return Err(Error::Transform { de: id.0, reason: "transformation pointer to a non-124 entity" });
+            };
+            m = t.matrix * m;
+            cur = self.entity(tid)?.directory().transform;
+        }
+        Ok(m)
+    }
+
+    /// The curve entity `id` as NURBS pieces, with its own transformation applied (model
+    /// space for an independent entity; the parent's definition space for a child).
+    /// A composite curve (102) gives its pieces; other curves one.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Unsupported`] for entities that are not curves (and 104 hyperbolas and
+    /// parabolas), [`Error::Geometry`] for invalid data.
+    pub fn curve(&self, id: EntityId) -> Result<Vec<NurbsCurve>> {
+        self.curve_at(id, 0)
+    }
+
+    /// The curve entity `id` joined into one NURBS curve (see [`join_curves`]).
+    ///
+    /// # Errors
+    ///
+    /// As [`curve`](Self::curve).
+    pub fn curve_joined(&self, id: EntityId) -> Result<NurbsCurve> {
+        let pieces = self.curve(id)?;
+        if pieces.len() == 1 {
+            return Ok(pieces.into_iter().next().expect("one"));
+        }
+        if pieces.is_empty() {
+            return Err(unsupported(self, id, "empty composite curve"));
+        }
+        join_curves(&pieces).map_err(geometry(id))
+    }
+
+    fn curve_at(&self, id: EntityId, depth: usize) -> Result<Vec<NurbsCurve>> {
+        if depth > MAX_DEPTH {
+            return Err(unsupported(self, id, "curves nested deeper than 64"));
+        }
+        let g = geometry(id);
+        let m = self.transform(id)?;
+        let local: Vec<NurbsCurve> = match self.view(id)? {
+            View::Line(l) => {
+                let len = (l.end - l.start).norm();
+                if !(len > 0.0 && len.is_finite()) {
+                    return Err(unsupported(self, id, "line of zero length"));
+                }
+                let k = KnotVector::try_new(vec![0.0, 0.0, len, len]).map_err(&g)?;
+                vec![NurbsCurve::try_new(1, k, vec![l.start, l.end], None).map_err(&g)?]
+            }
+            View::CircularArc(a) => {
+                let (cx, cy) = (a.center[0], a.center[1]);
+                let (sx, sy) = (a.start[0] - cx, a.start[1] - cy);
+                let (ex, ey) = (a.end[0] - cx, a.end[1] - cy);
+                let r = sx.hypot(sy);
+                let t0 = sy.atan2(sx);
+                let mut t1 = ey.atan2(ex);
+                while t1 <= t0 + 1e-12 {
+                    t1 += TAU;
+                }
+                if t1 - t0 > TAU {
+                    t1 = t0 + TAU;
+                }
+                let frame = Placement::try_new(Point3::new(cx, cy, a.z), Vector3::z(), Vector3::x()).map_err(&g)?;
+                let circle = Circle::try_new(frame, r).map_err(&g)?;
+                vec![circle.to_nurbs(t0..=t1).map_err(&g)?.curve]
+            }
+            View::ConicArc(c) => {
+                let [a, b, cc, d, e, f] = c.coefficients;
+                if c.form != 1 || b != 0.0 || d != 0.0 || e != 0.0 || a == 0.0 || cc == 0.0 {
+                    return Err(unsupported(self, id, "only ellipses in standard position (form 1) are converted"));
+                }
+                let (ra, rb) = ((-f / a).sqrt(), (-f / cc).sqrt());
+                if !(ra > 0.0 && rb > 0.0) {
+                    return Err(unsupported(self, id, "ellipse with non-positive radii"));
+                }
+                let ang = |p: [f64; 2]| (p[1] / rb).atan2(p[0] / ra);
+                let t0 = ang(c.start);
+                let mut t1 = ang(c.end);
+                while t1 <= t0 + 1e-12 {
+                    t1 += TAU;
+                }
+                let circle = Circle::try_new(Placement::standard(), 1.0).map_err(&g)?;
+                let mut unit = circle.to_nurbs(t0..=t1.min(t0 + TAU)).map_err(&g)?.curve;
+                let mut s = Matrix4::identity();
+                s[(0, 0)] = ra;
+                s[(1, 1)] = rb;
+                s[(2, 3)] = c.z;
+                unit.transform_by(&s);
+                vec![unit]
+            }
+            View::CopiousData(c) => {
+                let n = c.points.len();
+                if n < 2 {
+                    return Err(unsupported(self, id, "copious data with fewer than 2 points"));
+                }
+                let mut k = vec![0.0];
+                k.extend((0..n).map(|i| i as f64));
+                k.push((n - 1) as f64);
+                vec![NurbsCurve::try_new(1, KnotVector::try_new(k).map_err(&g)?, c.points, None).map_err(&g)?]
+            }
+            View::ParametricSplineCurve(s) => vec![spline_curve(&s).map_err(&g)?],
+            View::BSplineCurve(b) => {
+                let k = KnotVector::try_new(b.knots).map_err(&g)?;
+                vec![NurbsCurve::try_new(b.degree, k, b.points, b.weights).map_err(&g)?]
+            }
+            View::CompositeCurve(c) => {
+                let mut out = Vec::with_capacity(c.curves.len());
+                for child in c.curves {
+                    out.extend(self.curve_at(child, depth + 1)?);
+                }
+                out
+            }
+            View::CurveOnSurface(c) => match c.model_curve {
+                Some(mc) => self.curve_at(mc, depth + 1)?,
+                None => return Err(unsupported(self, id, "curve on surface without a model-space curve")),
+            },
+            _ => return Err(unsupported(self, id, "not a curve entity")),
+        };
+        Ok(local.into_iter().map(|c| if m == Matrix4::identity() { c } else { c.transformed(&m) }).collect())
+    }
+
+    /// A point entity (116) with its own transformation applied.
+    fn point_of(&self, id: EntityId) -> Result<Point3<f64>> {
+        match self.view(id)? {
+            View::Point(p) => Ok(self.transform(id)?.transform_point(&p.point)),
+            _ => Err(unsupported(self, id, "expected a point (116)")),
+        }
+    }
+
+    /// A direction entity (123) with its own transformation's linear part applied.
+    fn direction_of(&self, id: EntityId) -> Result<Vector3<f64>> {
+        match self.view(id)? {
+            View::Direction(d) => Ok(self.transform(id)?.transform_vector(&d.vector)),
+            _ => Err(unsupported(self, id, "expected a direction (123)")),
+        }
+    }
+
+    /// The surface entity `id` as an exact NURBS with its own transformation applied,
+    /// with the maps from the entity's (OCCT's) parameters to the NURBS ones.
+    ///
+    /// Unbounded surfaces take their extent from the face that uses them (the first
+    /// 144/143/510 pointing to `id`).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Unsupported`] for entities that are not surfaces, offset surfaces (no exact
+    /// NURBS form) and unbounded surfaces no face bounds; [`Error::Geometry`] for invalid
+    /// data.
+    pub fn surface(&self, id: EntityId) -> Result<ExactSurface> {
+        let face = self.faces().into_iter().find(|f| f.surface == id && f.face != id);
+        let hint = match face {
+            Some(f) => self.boundary_points(f.face)?,
+            None => Vec::new(),
+        };
+        let m = self.transform(id)?;
+        let inv = m.try_inverse().ok_or(Error::Transform { de: id.0, reason: "singular transformation matrix" })?;
+        let local_hint: Vec<Point3<f64>> = hint.iter().map(|p| inv.transform_point(p)).collect();
+        let mut s = self.surface_local(id, &local_hint, 0)?;
+        if m != Matrix4::identity() {
+            s.surface.transform_by(&m);
+        }
+        Ok(s)
+    }
+
+    /// The surface in its definition space (own transformation not applied).
+    pub(crate) fn surface_local(&self, id: EntityId, hint: &[Point3<f64>], depth: usize) -> Result<ExactSurface> {
+        if depth > MAX_DEPTH {
+            return Err(unsupported(self, id, "surfaces nested deeper than 64"));
+        }
+        let g = geometry(id);
+        Ok(match self.view(id)? {
+            View::BSplineSurface(b) => {
+                let uk = KnotVector::try_new(b.u_knots).map_err(&g)?;
+                let vk = KnotVector::try_new(b.v_knots).map_err(&g)?;
+                identity(
+                    NurbsSurface::try_new((b.u_degree, b.v_degree), (uk, vk), (b.n_u, b.n_v), b.points, b.weights)
+                        .map_err(&g)?,
+                )
+            }
+            View::Plane(p) => {
+                let [a, b, c, d] = p.coefficients;
+                let n = Vector3::new(a, b, c);
+                let (aa, ba, ca) = (a.abs(), b.abs(), c.abs());
+                // OCCT gp_Pln(A, B, C, −D): origin on the axis of the largest coefficient.
+                let origin = if ba <= aa && ba <= ca {
+                    if aa > ca {
+                        Point3::new(d / a, 0.0, 0.0)
+                    } else {
+                        Point3::new(0.0, 0.0, d / c)
+                    }
+                } else if aa <= ba && aa <= ca {
+                    if ba > ca {
+                        Point3::new(0.0, d / b, 0.0)
+                    } else {
+                        Point3::new(0.0, 0.0, d / c)
+                    }
+                } else if aa > ba {
+                    Point3::new(d / a, 0.0, 0.0)
+                } else {
+                    Point3::new(0.0, d / b, 0.0)
+                };
+                let frame = Placement::try_new(origin, n, default_x(&n)).map_err(&g)?;
+                let mut pts = hint.to_vec();
+                if pts.is_empty() {
+                    if let Some(bc) = p.boundary {
+                        pts = self.curve(bc)?.iter().flat_map(|c| c.control_points().to_vec()).collect();
+                    } else if p.symbol_size > 0.0 {
+                        let (sx, sy) = (frame.x_dir() * p.symbol_size, frame.y_dir() * p.symbol_size);
+                        pts = vec![p.symbol - sx - sy, p.symbol + sx + sy];
+                    }
+                }
+                plane_patch(self, id, &frame, &pts)?
+            }
+            View::PlaneSurface(p) => {
+                let o = self.point_of(p.location)?;
+                let n = self.direction_of(p.normal)?;
+                let x = match p.reference {
+                    Some(r) => self.direction_of(r)?,
+                    None => default_x(&n),
+                };
+                let frame = Placement::try_new(o, n, x).map_err(&g)?;
+                plane_patch(self, id, &frame, hint)?
+            }
+            View::CylindricalSurface(cy) => {
+                let frame = self.frame(p_or(cy.location), cy.axis, cy.reference, &g)?;
+                let cyl = Cylinder::try_new(frame, cy.radius).map_err(&g)?;
+                let (v0, v1) = axial_range(self, id, &frame, hint, 1.0)?;
+                cyl.to_nurbs(0.0..=TAU, v0..=v1).map_err(&g)?
+            }
+            View::ConicalSurface(co) => {
+                let frame = self.frame(p_or(co.location), co.axis, co.reference, &g)?;
+                let a = co.semi_angle_degrees.to_radians();
+                let cone = Cone::try_new(frame, co.radius, a).map_err(&g)?;
+                let (v0, v1) = axial_range(self, id, &frame, hint, a.cos())?;
+                cone.to_nurbs(0.0..=TAU, v0..=v1).map_err(&g)?
+            }
+            View::SphericalSurface(sp) => {
+                let o = self.point_of(sp.center)?;
+                let frame = match sp.axis {
+                    Some(ax) => self.frame(o.into(), ax, sp.reference, &g)?,
+                    None => Placement::try_new(o, Vector3::z(), Vector3::x()).map_err(&g)?,
+                };
+                let s = Sphere::try_new(frame, sp.radius).map_err(&g)?;
+                s.to_nurbs(0.0..=TAU, -FRAC_PI_2..=FRAC_PI_2).map_err(&g)?
+            }
+            View::ToroidalSurface(t) => {
+                let frame = self.frame(p_or(t.center), t.axis, t.reference, &g)?;
+                let s = Torus::try_new(frame, t.major_radius, t.minor_radius).map_err(&g)?;
+                s.to_nurbs(0.0..=TAU, -PI..=PI).map_err(&g)?
+            }
+            View::SurfaceOfRevolution(r) => {
+                let axis = self.curve(r.axis)?;
+                let (Some(a0), Some(a1)) =
+                    (axis.first().map(|c| c.control_points()[0]), axis.last().and_then(|c| c.control_points().last()))
+                else {
+                    return Err(unsupported(self, id, "axis of revolution is not a line"));
+                };
+                let gen = self.curve_joined(r.generatrix)?;
+                let dom = gen.domain();
+                let rev = Revolution::try_new(gen, a0, a1 - a0).map_err(&g)?;
+                rev.to_nurbs(r.start_angle..=r.end_angle, dom).map_err(&g)?
+            }
+            View::TabulatedCylinder(t) => {
+                let dir = self.curve_joined(t.directrix)?;
+                let dom = dir.domain();
+                let start = dir.eval(*dom.start());
+                let d = t.end - start;
+                let len = d.norm();
+                let ext = Extrusion::try_new(dir, d).map_err(&g)?;
+                ext.to_nurbs(dom, 0.0..=len).map_err(&g)?
+            }
+            View::RuledSurface(r) => identity(self.ruled(&r, &g)?),
+            View::ParametricSplineSurface(s) => identity(spline_surface(&s).map_err(&g)?),
+            View::TrimmedSurface(t) => self.child_surface(t.surface, hint, depth)?,
+            View::BoundedSurface(b) => self.child_surface(b.surface, hint, depth)?,
+            View::Face(f) => self.child_surface(f.surface, hint, depth)?,
+            View::OffsetSurface(_) => return Err(unsupported(self, id, "offset surfaces have no exact NURBS form")),
+            _ => return Err(unsupported(self, id, "not a surface entity")),
+        })
+    }
+
+    /// A child surface mapped into the parent's definition space.
+    fn child_surface(&self, id: EntityId, hint: &[Point3<f64>], depth: usize) -> Result<ExactSurface> {
+        let m = self.transform(id)?;
+        let inv = m.try_inverse().ok_or(Error::Transform { de: id.0, reason: "singular transformation matrix" })?;
+        let local: Vec<Point3<f64>> = hint.iter().map(|p| inv.transform_point(p)).collect();
+        let mut s = self.surface_local(id, &local, depth + 1)?;
+        if m != Matrix4::identity() {
+            s.surface.transform_by(&m);
+        }
+        Ok(s)
+    }
+
+    fn frame(
+        &self,
+        origin: PointSource,
+        axis: EntityId,
+        reference: Option<EntityId>,
+        g: &impl Fn(cadmorph_nurbs::Error) -> Error,
+    ) -> Result<Placement> {
+        let o = match origin {
+            PointSource::Entity(id) => self.point_of(id)?,
+            PointSource::Point(p) => p,
+        };
+        let z = self.direction_of(axis)?;
+        let x = match reference {
+            Some(r) => self.direction_of(r)?,
+            None => default_x(&z),
+        };
+        Placement::try_new(o, z, x).map_err(g)
+    }
+
+    fn ruled(
+        &self,
+        r: &crate::entity::RuledSurface,
+        g: &impl Fn(cadmorph_nurbs::Error) -> Error,
+    ) -> Result<NurbsSurface> {
+        let norm = |c: NurbsCurve| -> cadmorph_nurbs::Result<NurbsCurve> {
+            let c = c.clamped();
+            let d = c.domain();
+            let (a, b) = (*d.start(), *d.end());
+            let k: Vec<f64> = c.knots().as_slice().iter().map(|x| (x - a) / (b - a)).collect();
+            NurbsCurve::try_new(
+                c.degree(),
+                KnotVector::try_new(k)?,
+                c.control_points().to_vec(),
+                c.weights().map(<[f64]>::to_vec),
+            )
+        };
+        let mut c1 = norm(self.curve_joined(r.curve1)?).map_err(g)?;
+        let mut c2 = norm(self.curve_joined(r.curve2)?).map_err(g)?;
+        if r.reversed {
+            c2 = norm(c2.reversed()).map_err(g)?;
+        }
+        let p = c1.degree().max(c2.degree());
+        if c1.degree() < p {
+            c1.elevate_degree(p - c1.degree()).map_err(g)?;
+        }
+        if c2.degree() < p {
+            c2.elevate_degree(p - c2.degree()).map_err(g)?;
+        }
+        let missing = |a: &NurbsCurve, b: &NurbsCurve| -> Vec<f64> {
+            let mut out = Vec::new();
+            let (va, ma) = a.knots().distinct();
+            let (vb, mb) = b.knots().distinct();
+            for (k, m) in vb.iter().zip(&mb) {
+                let have = va.iter().zip(&ma).find(|(x, _)| (*x - k).abs() < 1e-12).map_or(0, |(_, m)| *m);
+                out.extend(std::iter::repeat_n(*k, m.saturating_sub(have)));
+            }
+            out
+        };
+        let (add1, add2) = (missing(&c1, &c2), missing(&c2, &c1));
+        if !add1.is_empty() {
+            c1.refine(&add1).map_err(g)?;
+        }
+        if !add2.is_empty() {
+            c2.refine(&add2).map_err(g)?;
+        }
+        let n = c1.control_points().len();
+        let rational = c1.is_rational() || c2.is_rational();
+        let w = |c: &NurbsCurve, i: usize| c.weights().map_or(1.0, |w| w[i]);
+        let mut points = Vec::with_capacity(2 * n);
+        let mut weights = Vec::with_capacity(2 * n);
+        for i in 0..n {
+            points.push(c1.control_points()[i]);
+            points.push(c2.control_points()[i]);
+            weights.push(w(&c1, i));
+            weights.push(w(&c2, i));
+        }
+        let vk = KnotVector::try_new(vec![0.0, 0.0, 1.0, 1.0]).map_err(g)?;
+        NurbsSurface::try_new((p, 1), (c1.knots().clone(), vk), (n, 2), points, rational.then_some(weights)).map_err(g)
+    }
+
+    /// Every face of the model in entity order: each 144, 143 and 510, and each
+    /// independent surface entity no face uses.
+    pub fn faces(&self) -> Vec<FaceRef> {
+        let mut used = vec![false; self.entities.len()];
+        let mut faces = Vec::new();
+        for e in &self.entities {
+            let surface = match e.entity_type() {
+                144 => match self.view(e.id()) {
+                    Ok(View::TrimmedSurface(t)) => Some((t.surface, !t.outer_is_domain || !t.inner.is_empty())),
+                    _ => None,
+                },
+                143 => match self.view(e.id()) {
+                    Ok(View::BoundedSurface(b)) => Some((b.surface, true)),
+                    _ => None,
+                },
+                510 => match self.view(e.id()) {
+                    Ok(View::Face(f)) => Some((f.surface, true)),
+                    _ => None,
+                },
+                _ => None,
+            };
+            if let Some((s, trimmed)) = surface {
+                used[s.index()] = true;
+                faces.push(FaceRef { face: e.id(), surface: s, trimmed });
+            }
+        }
+        for e in &self.entities {
+            let is_surface = matches!(e.entity_type(), 108 | 114 | 118 | 120 | 122 | 128 | 140 | 190..=198);
+            if is_surface && !used[e.id().index()] && e.directory().status.subordinate == 0 {
+                faces.push(FaceRef { face: e.id(), surface: e.id(), trimmed: false });
+            }
+        }
+        faces.sort_by_key(|f| f.face);
+        faces
+    }
+
+    /// The surface of a face in model space (the face's and the surface's transformations
+    /// applied), exact, with OCCT's parameter maps.
+    ///
+    /// # Errors
+    ///
+    /// As [`surface`](Self::surface).
+    pub fn face_surface(&self, face: &FaceRef) -> Result<ExactSurface> {
+        if face.face == face.surface {
+            return self.surface(face.surface);
+        }
+        let hint = self.boundary_points(face.face)?;
+        let m = self.transform(face.face)?;
+        let inv =
+            m.try_inverse().ok_or(Error::Transform { de: face.face.0, reason: "singular transformation matrix" })?;
+        let local: Vec<Point3<f64>> = hint.iter().map(|p| inv.transform_point(p)).collect();
+        let mut s = self.child_surface(face.surface, &local, 0)?;
+        if m != Matrix4::identity() {
+            s.surface.transform_by(&m);
+        }
+        Ok(s)
+    }
+
+    /// Control points of the model-space boundary curves of a face (144, 143, 510), in
+    /// the face's parent space; empty when the face has none.
+    pub(crate) fn boundary_points(&self, face: EntityId) -> Result<Vec<Point3<f64>>> {
+        let mut curves: Vec<EntityId> = Vec::new();
+        match self.view(face)? {
+            View::TrimmedSurface(t) => curves.extend(t.outer.into_iter().chain(t.inner)),
+            View::BoundedSurface(b) => {
+                for bd in b.boundaries {
+                    if let View::Boundary(bv) = self.view(bd)? {
+                        curves.extend(bv.curves.iter().map(|c| c.curve));
+                    }
+                }
+            }
+            View::Face(f) => {
+                for l in f.loops {
+                    if let View::Loop(lv) = self.view(l)? {
+                        for ed in lv.edges.iter().filter(|e| e.kind == 0) {
+                            if let View::EdgeList(el) = self.view(ed.list)? {
+                                let k = usize::try_from(ed.index - 1).ok();
+                                if let Some(edge) = k.and_then(|k| el.edges.get(k)) {
+                                    curves.push(edge.curve);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+        let mut pts = Vec::new();
+        for c in curves {
+            for piece in self.curve(c)? {
+                pts.extend_from_slice(piece.control_points());
+            }
+        }
+        Ok(pts)
+    }
+}
+
+/// Origin of a frame: a 116 entity or a point already known.
+enum PointSource {
+    Entity(EntityId),
+    Point(Point3<f64>),
+}
+
+fn p_or(id: EntityId) -> PointSource {
+    PointSource::Entity(id)
+}
+
+impl From<Point3<f64>> for PointSource {
+    fn from(p: Point3<f64>) -> Self {
+        PointSource::Point(p)
+    }
+}
+
+/// Extent of `pts` along a direction, with the margin.
+fn extent(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for x in values {
+        lo = lo.min(x);
+        hi = hi.max(x);
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        return None;
+    }
+    let pad = BOX_MARGIN * (hi - lo).max(1e-9 * hi.abs().max(lo.abs()).max(1.0));
+    Some((lo - pad, hi + pad))
+}
+
+fn plane_patch(doc: &Document, id: EntityId, frame: &Placement, pts: &[Point3<f64>]) -> Result<ExactSurface> {
+    let o = frame.origin();
+    let u = extent(pts.iter().map(|p| (p - o).dot(&frame.x_dir())));
+    let v = extent(pts.iter().map(|p| (p - o).dot(&frame.y_dir())));
+    let (Some((u0, u1)), Some((v0, v1))) = (u, v) else {
+        return Err(unsupported(doc, id, "unbounded plane: no face or boundary curve gives its extent"));
+    };
+    let plane = cadmorph_nurbs::analytic::Plane::new(*frame);
+    plane.to_nurbs(u0..=u1, v0..=v1).map_err(geometry(id))
+}
+
+/// Range of the axial coordinate (divided by `scale`: cos of a cone's semi-angle).
+fn axial_range(doc: &Document, id: EntityId, frame: &Placement, pts: &[Point3<f64>], scale: f64) -> Result<(f64, f64)> {
+    let o = frame.origin();
+    extent(pts.iter().map(|p| (p - o).dot(&frame.z_dir()) / scale))
+        .ok_or_else(|| unsupported(doc, id, "unbounded surface: no face gives its extent along the axis"))
+}
+
+/// Bézier control values of the cubic `a + b s + c s² + d s³` on `s ∈ [0, h]`.
+fn cubic_bezier(k: [f64; 4], h: f64) -> [f64; 4] {
+    let (a, b, c, d) = (k[0], k[1] * h, k[2] * h * h, k[3] * h * h * h);
+    [a, a + b / 3.0, a + 2.0 * b / 3.0 + c / 3.0, a + b + c + d]
+}
+
+/// 112 → cubic B-spline, exact: each segment's power basis to Bézier form, joined with
+/// knots of multiplicity 3 at the break points.
+fn spline_curve(s: &crate::entity::ParametricSplineCurve) -> cadmorph_nurbs::Result<NurbsCurve> {
+    let n = s.coefficients.len();
+    let t = &s.breakpoints;
+    let mut knots = vec![t[0]; 4];
+    let mut points = Vec::with_capacity(3 * n + 1);
+    for (i, seg) in s.coefficients.iter().enumerate() {
+        let h = t[i + 1] - t[i];
+        let b: Vec<[f64; 4]> = seg.iter().map(|c| cubic_bezier(*c, h)).collect();
+        let first = if i == 0 { 0 } else { 1 };
+        for k in first..4 {
+            points.push(Point3::new(b[0][k], b[1][k], if s.dimension == 2 { 0.0 } else { b[2][k] }));
+        }
+        knots.extend(std::iter::repeat_n(t[i + 1], if i + 1 == n { 4 } else { 3 }));
+    }
+    NurbsCurve::try_new(3, KnotVector::try_new(knots)?, points, None)
+}
+
+/// 114 → bicubic B-spline, exact (Bézier patches joined with triple knots).
+fn spline_surface(s: &crate::entity::ParametricSplineSurface) -> cadmorph_nurbs::Result<NurbsSurface> {
+    let (m, n) = (s.u_breakpoints.len() - 1, s.v_breakpoints.len() - 1);
+    let (nu, nv) = (3 * m + 1, 3 * n + 1);
+    let mut pts = vec![Point3::origin(); nu * nv];
+    for i in 0..m {
+        let hu = s.u_breakpoints[i + 1] - s.u_breakpoints[i];
+        for j in 0..n {
+            let hv = s.v_breakpoints[j + 1] - s.v_breakpoints[j];
+            let patch = &s.patches[i * n + j];
+            for (coord, coef) in patch.iter().enumerate() {
+                // coef[k + 4 l]: u power k, v power l. Convert along u for each l, then along v.
+                let mut mid = [[0.0; 4]; 4]; // mid[l][a]: Bézier index a in u, power l in v
+                for (l, row) in mid.iter_mut().enumerate() {
+                    *row = cubic_bezier([coef[4 * l], coef[1 + 4 * l], coef[2 + 4 * l], coef[3 + 4 * l]], hu);
+                }
+                for a in 0..4 {
+                    let col = cubic_bezier([mid[0][a], mid[1][a], mid[2][a], mid[3][a]], hv);
+                    for (b, val) in col.iter().enumerate() {
+                        pts[(3 * i + a) * nv + 3 * j + b][coord] = *val;
+                    }
+                }
+            }
+        }
+    }
+    let knots = |t: &[f64]| {
+        let k = t.len() - 1;
+        let mut v = vec![t[0]; 4];
+        for (i, x) in t.iter().enumerate().skip(1) {
+            v.extend(std::iter::repeat_n(*x, if i == k { 4 } else { 3 }));
+        }
+        v
+    };
+    NurbsSurface::try_new(
+        (3, 3),
+        (KnotVector::try_new(knots(&s.u_breakpoints))?, KnotVector::try_new(knots(&s.v_breakpoints))?),
+        (nu, nv),
+        pts,
+        None,
+    )
+}
+
+impl Document {
+    /// For each face ([`faces`](Self::faces)): its surface entity's type, form, trimmed
+    /// flag, and the degrees, pole counts and rationality of its exact NURBS form.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use cadmorph_iges::Document;
+    /// let bytes = std::fs::read(cadmorph_testkit::sample("hull3.igs")).unwrap();
+    /// let doc = Document::parse(&bytes).unwrap();
+    /// let info = doc.surfaces();
+    /// assert_eq!(info.len(), 3);
+    /// let n = info[0].nurbs.as_ref().unwrap();
+    /// assert_eq!((n.u_degree, n.v_degree, n.rational), (3, 3, false));
+    /// ```
+    pub fn surfaces(&self) -> Vec<SurfaceInfo> {
+        self.faces()
+            .into_iter()
+            .map(|f| {
+                let e = &self.entities[f.surface.index()];
+                SurfaceInfo {
+                    face: f.face,
+                    surface: f.surface,
+                    entity_type: e.entity_type(),
+                    form: e.form(),
+                    trimmed: f.trimmed,
+                    nurbs: self.face_surface(&f).map(|s| NurbsInfo::of(&s.surface)),
+                }
+            })
+            .collect()
+    }
+}
