@@ -2,6 +2,7 @@
 
 pub mod convert;
 mod document;
+mod edit;
 pub mod entity;
 mod error;
 mod global;

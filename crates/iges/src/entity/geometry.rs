@@ -228,7 +228,7 @@ impl ParametricSplineSurface {
         let n = c.count("N (v segments)", 1)?;
         let u_breakpoints = c.reals("TU", m + 1)?;
         let v_breakpoints = c.reals("TV", n + 1)?;
-        let count = m.checked_mul(n).unwrap_or(usize::MAX);
+        let count = m.saturating_mul(n);
         c.need("patch coefficients", count, 48)?;
         let mut patches = Vec::with_capacity(count);
         for i in 0..m {

@@ -123,7 +123,7 @@ fn sections(src: &[u8], lines: &[Line]) -> Result<Layout> {
         });
     };
     // Empty sections sit where the next one starts.
-    let mut range = |s: usize| {
+    let range = |s: usize| {
         if first[s] == usize::MAX {
             let at = (s + 1..5).map(|t| first[t]).find(|&f| f != usize::MAX).unwrap_or(terminate);
             at..at

@@ -119,7 +119,7 @@ pub(crate) fn write(doc: &Document) -> Vec<u8> {
     let mut out = Vec::with_capacity(doc.source.len() + 4096);
     // S and G lines verbatim.
     let head_end = doc.lines[layout.directory.start.min(layout.terminate)].start;
-    let head_start = doc.lines.first().map_or(0, |l| l.start);
+    let head_start = doc.lines.get(layout.start.start).map_or(0, |l| l.start);
     out.extend_from_slice(&doc.source[head_start..head_end]);
 
     // New P positions.
