@@ -119,13 +119,18 @@ pub enum Error {
         condition: f64,
     },
     /// The RBF interpolation system is too ill-conditioned for its solution to be trusted
-    /// (for example a Gaussian radius far larger than the control-point spacing).
-    #[error("ill-conditioned interpolation system: condition estimate {condition:e} exceeds the limit {limit:e}")]
+    /// (for example a Gaussian radius far larger than the control-point spacing): the solved
+    /// interpolant misses its own control points by more than
+    /// [`crate::rbf::RbfOptions::max_residual`], or the condition estimate exceeds
+    /// [`crate::rbf::RbfOptions::max_condition`].
+    #[error("ill-conditioned interpolation system: condition estimate {condition:e} (limit {max_condition:e}), the solution misses its control points by {residual:e} of the largest displacement")]
     IllConditioned {
         /// 1-norm condition number estimate.
         condition: f64,
-        /// The limit it exceeded ([`crate::rbf::RbfOptions::max_condition`]).
-        limit: f64,
+        /// Largest miss at a control point, relative to the largest displacement.
+        residual: f64,
+        /// The condition limit in force.
+        max_condition: f64,
     },
     /// A TOML parameter document did not parse or did not describe valid parameters.
     #[error("TOML line {line}, column {column}: {message}")]
@@ -160,7 +165,7 @@ mod tests {
             Error::IndexOutOfRange { line: 8, index: [3, 0, 0], shape: [3, 2, 2] },
             Error::InvalidParameter { line: Some(4), name: "radius", value: -1.0, reason: "must be positive" },
             Error::SingularSystem { condition: f64::INFINITY },
-            Error::IllConditioned { condition: 1e20, limit: 1e12 },
+            Error::IllConditioned { condition: 1e20, residual: 4.0, max_condition: 1e16 },
             Error::Toml { line: 1, column: 2, message: "expected `=`".into() },
         ];
         for e in &all {

@@ -403,41 +403,52 @@ fn lattice_sum_lanes(
     by: &[[f64; LANES]],
     bz: &[[f64; LANES]],
 ) -> [[f64; LANES]; 3] {
-    pulp::Arch::new().dispatch(
-        #[inline(always)]
-        || {
-            let [_, m, n] = mu.shape;
-            let mut acc = [[0.0; LANES]; 3];
-            for (i, bxi) in bx.iter().enumerate() {
-                for (j, byj) in by.iter().enumerate() {
-                    let mut w = [0.0; LANES];
+    pulp::Arch::new().dispatch(LatticeSum { mu, bx, by, bz })
+}
+
+/// The lattice sum, compiled inside `pulp`'s target-feature function (the body must sit in
+/// `with_simd` itself to get AVX2).
+struct LatticeSum<'a> {
+    mu: &'a Displacements,
+    bx: &'a [[f64; LANES]],
+    by: &'a [[f64; LANES]],
+    bz: &'a [[f64; LANES]],
+}
+
+impl pulp::WithSimd for LatticeSum<'_> {
+    type Output = [[f64; LANES]; 3];
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
+        let LatticeSum { mu, bx, by, bz } = self;
+        let [_, m, n] = mu.shape;
+        let mut acc = [[0.0; LANES]; 3];
+        for (i, bxi) in bx.iter().enumerate() {
+            for (j, byj) in by.iter().enumerate() {
+                let base = (i * m + j) * n;
+                let (mx, my, mz) = (&mu.x[base..base + n], &mu.y[base..base + n], &mu.z[base..base + n]);
+                // Contract over k first, then scale by bx·by: 3N + 4 operations per (i, j).
+                let mut sx = [0.0; LANES];
+                let mut sy = [0.0; LANES];
+                let mut sz = [0.0; LANES];
+                for (k, bzk) in bz.iter().enumerate() {
+                    let (a, b, c) = (mx[k], my[k], mz[k]);
                     for lane in 0..LANES {
-                        w[lane] = bxi[lane] * byj[lane];
-                    }
-                    let base = (i * m + j) * n;
-                    let (mx, my, mz) = (&mu.x[base..base + n], &mu.y[base..base + n], &mu.z[base..base + n]);
-                    // Contract over k first, then scale by w: 3N + 3 multiply-adds per (i, j).
-                    let mut sx = [0.0; LANES];
-                    let mut sy = [0.0; LANES];
-                    let mut sz = [0.0; LANES];
-                    for (k, bzk) in bz.iter().enumerate() {
-                        let (a, b, c) = (mx[k], my[k], mz[k]);
-                        for lane in 0..LANES {
-                            sx[lane] = bzk[lane].mul_add(a, sx[lane]);
-                            sy[lane] = bzk[lane].mul_add(b, sy[lane]);
-                            sz[lane] = bzk[lane].mul_add(c, sz[lane]);
-                        }
-                    }
-                    for lane in 0..LANES {
-                        acc[0][lane] = w[lane].mul_add(sx[lane], acc[0][lane]);
-                        acc[1][lane] = w[lane].mul_add(sy[lane], acc[1][lane]);
-                        acc[2][lane] = w[lane].mul_add(sz[lane], acc[2][lane]);
+                        sx[lane] += bzk[lane] * a;
+                        sy[lane] += bzk[lane] * b;
+                        sz[lane] += bzk[lane] * c;
                     }
                 }
+                for lane in 0..LANES {
+                    let w = bxi[lane] * byj[lane];
+                    acc[0][lane] += w * sx[lane];
+                    acc[1][lane] += w * sy[lane];
+                    acc[2][lane] += w * sz[lane];
+                }
             }
-            acc
-        },
-    )
+        }
+        acc
+    }
 }
 
 /// `Σₗₘₙ bx[l] by[m] bz[n] μₗₘₙ` for one point.

@@ -278,27 +278,41 @@ impl Idw {
     /// Weighted sums over all control points for `LANES` points, with `g` a function of d².
     #[inline(always)]
     fn sums<G: Fn(f64) -> f64>(&self, px: &[f64; LANES], py: &[f64; LANES], pz: &[f64; LANES], g: G) -> Sums {
-        pulp::Arch::new().dispatch(
-            #[inline(always)]
-            || {
-                let mut s = Sums { num: [[0.0; LANES]; 3], den: [0.0; LANES], min_d2: [f64::INFINITY; LANES] };
-                for i in 0..self.cx.len() {
-                    let (cx, cy, cz) = (self.cx[i], self.cy[i], self.cz[i]);
-                    let (dx, dy, dz) = (self.dx[i], self.dy[i], self.dz[i]);
-                    for lane in 0..LANES {
-                        let (a, b, c) = (px[lane] - cx, py[lane] - cy, pz[lane] - cz);
-                        let d2 = a.mul_add(a, b.mul_add(b, c * c));
-                        let w = g(d2);
-                        s.min_d2[lane] = s.min_d2[lane].min(d2);
-                        s.den[lane] += w;
-                        s.num[0][lane] = w.mul_add(dx, s.num[0][lane]);
-                        s.num[1][lane] = w.mul_add(dy, s.num[1][lane]);
-                        s.num[2][lane] = w.mul_add(dz, s.num[2][lane]);
-                    }
-                }
-                s
-            },
-        )
+        pulp::Arch::new().dispatch(SumsOp { idw: self, px, py, pz, g })
+    }
+}
+
+/// The IDW sum loop, compiled inside `pulp`'s target-feature function.
+struct SumsOp<'a, G> {
+    idw: &'a Idw,
+    px: &'a [f64; LANES],
+    py: &'a [f64; LANES],
+    pz: &'a [f64; LANES],
+    g: G,
+}
+
+impl<G: Fn(f64) -> f64> pulp::WithSimd for SumsOp<'_, G> {
+    type Output = Sums;
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Sums {
+        let SumsOp { idw, px, py, pz, g } = self;
+        let mut s = Sums { num: [[0.0; LANES]; 3], den: [0.0; LANES], min_d2: [f64::INFINITY; LANES] };
+        for i in 0..idw.cx.len() {
+            let (cx, cy, cz) = (idw.cx[i], idw.cy[i], idw.cz[i]);
+            let (dx, dy, dz) = (idw.dx[i], idw.dy[i], idw.dz[i]);
+            for lane in 0..LANES {
+                let (a, b, c) = (px[lane] - cx, py[lane] - cy, pz[lane] - cz);
+                let d2 = a * a + b * b + c * c;
+                let w = g(d2);
+                s.min_d2[lane] = s.min_d2[lane].min(d2);
+                s.den[lane] += w;
+                s.num[0][lane] += w * dx;
+                s.num[1][lane] += w * dy;
+                s.num[2][lane] += w * dz;
+            }
+        }
+        s
     }
 }
 
