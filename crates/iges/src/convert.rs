@@ -38,6 +38,8 @@ use crate::error::{Error, Result};
 
 /// Deepest chain of 124 matrices or of nested curves followed.
 const MAX_DEPTH: usize = 64;
+/// Most curve entities visited to convert one curve (composite curves may repeat pieces).
+const MAX_CURVE_VISITS: usize = 100_000;
 /// Margin added around boundary boxes of unbounded surfaces (fraction of the extent).
 const BOX_MARGIN: f64 = 0.01;
 
@@ -197,7 +199,8 @@ impl Document {
     /// [`Error::Unsupported`] for entities that are not curves (and 104 hyperbolas and
     /// parabolas), [`Error::Geometry`] for invalid data.
     pub fn curve(&self, id: EntityId) -> Result<Vec<NurbsCurve>> {
-        self.curve_at(id, 0)
+        let mut budget = MAX_CURVE_VISITS;
+        self.curve_at(id, 0, &mut budget)
     }
 
     /// The curve entity `id` joined into one NURBS curve (see [`join_curves`]).
@@ -216,10 +219,13 @@ impl Document {
         join_curves(&pieces).map_err(geometry(id))
     }
 
-    fn curve_at(&self, id: EntityId, depth: usize) -> Result<Vec<NurbsCurve>> {
+    fn curve_at(&self, id: EntityId, depth: usize, budget: &mut usize) -> Result<Vec<NurbsCurve>> {
         if depth > MAX_DEPTH {
             return Err(unsupported(self, id, "curves nested deeper than 64"));
         }
+        // Composite curves may share (or repeat) pieces: bound the total work.
+        *budget =
+            budget.checked_sub(1).ok_or_else(|| unsupported(self, id, "composite curves with too many pieces"))?;
         let g = geometry(id);
         let m = self.transform(id)?;
         let local: Vec<NurbsCurve> = match self.view(id)? {
@@ -290,12 +296,12 @@ impl Document {
             View::CompositeCurve(c) => {
                 let mut out = Vec::with_capacity(c.curves.len());
                 for child in c.curves {
-                    out.extend(self.curve_at(child, depth + 1)?);
+                    out.extend(self.curve_at(child, depth + 1, budget)?);
                 }
                 out
             }
             View::CurveOnSurface(c) => match c.model_curve {
-                Some(mc) => self.curve_at(mc, depth + 1)?,
+                Some(mc) => self.curve_at(mc, depth + 1, budget)?,
                 None => return Err(unsupported(self, id, "curve on surface without a model-space curve")),
             },
             _ => return Err(unsupported(self, id, "not a curve entity")),
@@ -561,19 +567,13 @@ impl Document {
         let mut used = vec![false; self.entities.len()];
         let mut faces = Vec::new();
         for e in &self.entities {
-            let surface = match e.entity_type() {
-                144 => match self.view(e.id()) {
-                    Ok(View::TrimmedSurface(t)) => Some((t.surface, !t.outer_is_domain || !t.inner.is_empty())),
-                    _ => None,
-                },
-                143 => match self.view(e.id()) {
-                    Ok(View::BoundedSurface(b)) => Some((b.surface, true)),
-                    _ => None,
-                },
-                510 => match self.view(e.id()) {
-                    Ok(View::Face(f)) => Some((f.surface, true)),
-                    _ => None,
-                },
+            // A face whose record does not read is listed with itself as surface, so that
+            // converting it reports the error.
+            let surface = match (e.entity_type(), self.view(e.id())) {
+                (144, Ok(View::TrimmedSurface(t))) => Some((t.surface, !t.outer_is_domain || !t.inner.is_empty())),
+                (143, Ok(View::BoundedSurface(b))) => Some((b.surface, true)),
+                (510, Ok(View::Face(f))) => Some((f.surface, true)),
+                (144 | 143 | 510, _) => Some((e.id(), true)),
                 _ => None,
             };
             if let Some((s, trimmed)) = surface {
