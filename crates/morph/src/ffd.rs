@@ -468,6 +468,22 @@ fn contract(mu: &Displacements, bx: &[f64], by: &[f64], bz: &[f64]) -> Vector3<f
     acc
 }
 
+/// Binomial coefficients `C(n, k)` for `n ≤ 32` (Pascal's triangle, built at compile time).
+const BINOM: [[u64; 33]; 33] = {
+    let mut t = [[0u64; 33]; 33];
+    let mut n = 0;
+    while n <= 32 {
+        t[n][0] = 1;
+        let mut k = 1;
+        while k <= n {
+            t[n][k] = t[n - 1][k - 1] + if k < n { t[n - 1][k] } else { 0 };
+            k += 1;
+        }
+        n += 1;
+    }
+    t
+};
+
 /// Bernstein polynomials of degree `deg` at `t`: `out[i] = C(deg, i) tⁱ (1 − t)^(deg − i)`.
 #[inline]
 pub(crate) fn bernstein(deg: usize, t: f64, out: &mut [f64]) {
@@ -480,6 +496,13 @@ pub(crate) fn bernstein(deg: usize, t: f64, out: &mut [f64]) {
         tp *= t;
     }
     let mut sp = 1.0;
+    if deg <= 32 {
+        for i in (0..=deg).rev() {
+            out[i] *= BINOM[deg][i] as f64 * sp;
+            sp *= s;
+        }
+        return;
+    }
     let mut binom = 1.0;
     for i in (0..=deg).rev() {
         out[i] *= binom * sp;
@@ -713,6 +736,11 @@ mod tests {
         assert_eq!(b, [0.125, 0.375, 0.375, 0.125]);
         bernstein(3, 1.0, &mut b);
         assert_eq!(b, [0.0, 0.0, 0.0, 1.0]);
+        // The table and the recurrence used above degree 32 agree.
+        let mut big = vec![0.0; 34];
+        bernstein(33, 0.3, &mut big);
+        assert!((big.iter().sum::<f64>() - 1.0).abs() < 1e-13);
+        assert_eq!(BINOM[32][16], 601_080_390);
     }
 
     #[test]

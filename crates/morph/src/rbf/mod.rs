@@ -23,11 +23,11 @@ use eval::{Centres, LANES};
 ///
 /// After solving, the interpolant is evaluated at its own centres. A backward-stable solve
 /// of a reasonably conditioned system misses them by about `ε·‖A‖·‖γ‖` (1e-16 to 1e-10 of
-/// the displacements for the thin-plate spline on 10–10⁴ random centres); an ill-conditioned one
-/// (PyGeM's Gaussian with radius 0.5 on 1000 random points in the unit cube, condition
-/// > 10¹⁸, misses its own control points by 4.0) is then refused with
-/// [`Error::IllConditioned`] and its condition estimate, instead of returning numerical
-/// noise dressed as a shape.
+/// the displacements for the thin-plate spline on 10 to 10⁴ random centres). An
+/// ill-conditioned one, such as PyGeM's Gaussian with radius 0.5 on 1000 random points in
+/// the unit cube (condition estimate about 2·10²⁰; PyGeM misses its own control points by
+/// 4.0), is refused with [`Error::SingularSystem`] or [`Error::IllConditioned`] and its
+/// condition estimate, instead of returning numerical noise dressed as a shape.
 pub const MAX_RESIDUAL: f64 = 1e-8;
 
 /// Default limit on the 1-norm condition estimate of the interpolation system: at 10¹⁶ a
