@@ -1,0 +1,311 @@
+//! The parameter box of a face on an analytic surface, from its edges.
+//!
+//! Each edge is sampled in 3D and every sample is inverted onto the surface in closed
+//! form (planes, cylinders, cones, spheres, tori), by rotation and curve projection
+//! (revolutions) or by projection along the direction (extrusions). Angles are unwrapped
+//! along each edge, and the face's angular range is the complement of the largest gap
+//! left by the union of the edges' arcs; an edge that goes all the way round gives a full
+//! turn starting at its first point.
+
+use std::f64::consts::TAU;
+
+use cadmorph_nurbs::analytic::AnalyticSurface;
+use cadmorph_nurbs::math::{Matrix4, Point3, Vector3};
+use cadmorph_nurbs::{Curve, CurveProject};
+
+use super::geometry::SurfaceGeom;
+use super::{Ctx, Face};
+use crate::error::{Error, Result};
+
+/// Samples per edge (plus its ends).
+const EDGE_SAMPLES: usize = 24;
+
+/// One parameter direction: angular (periodic) or linear.
+#[derive(Clone, Copy, PartialEq)]
+enum Dir {
+    Angle,
+    Linear,
+}
+
+impl Ctx<'_> {
+    pub fn face_box(&self, face: &Face, g: &SurfaceGeom) -> Result<((f64, f64), (f64, f64))> {
+        let (du, dv) = match g {
+            SurfaceGeom::Plane(_) | SurfaceGeom::Extrusion(_) => (Dir::Linear, Dir::Linear),
+            SurfaceGeom::Cylinder(_) | SurfaceGeom::Cone(_) | SurfaceGeom::Revolution(_) => (Dir::Angle, Dir::Linear),
+            SurfaceGeom::Sphere(_) => (Dir::Angle, Dir::Linear),
+            SurfaceGeom::Torus(_) => (Dir::Angle, Dir::Angle),
+            _ => (Dir::Linear, Dir::Linear),
+        };
+        // Per edge: the (u, v) of its samples, in order; u is None where undefined (poles).
+        let mut edges: Vec<Vec<(Option<f64>, f64)>> = Vec::new();
+        for &(_, lp, _) in &face.bounds {
+            let lp_edges = self.loop_edges(lp)?;
+            if lp_edges.is_empty() {
+                // A vertex loop (apex of a cone, pole of a sphere).
+                let r = self.any(lp)?;
+                if r.name() == "VERTEX_LOOP" {
+                    r.arity(2)?;
+                    let vr = self.simple(r.reference(1)?, "VERTEX_POINT")?;
+                    vr.arity(2)?;
+                    let p = self.point(vr.reference(1)?)?;
+                    edges.push(vec![invert(g, &p)]);
+                }
+                continue;
+            }
+            for (e, _) in lp_edges {
+                let (c, t0, t1, _, _) = self.edge_geometry(e)?;
+                let mut pts: Vec<(f64, (Option<f64>, f64))> = (0..=EDGE_SAMPLES)
+                    .map(|i| {
+                        let t = t0 + (t1 - t0) * i as f64 / EDGE_SAMPLES as f64;
+                        (t, invert(g, &c.eval(t)))
+                    })
+                    .collect();
+                // Sharpen the extremes of each coordinate between their neighbours.
+                let mut extra = Vec::new();
+                for coord in 0..2 {
+                    let val = |s: &(Option<f64>, f64)| if coord == 0 { s.0 } else { Some(s.1) };
+                    let angular = (if coord == 0 { du } else { dv }) == Dir::Angle;
+                    for sign in [1.0, -1.0] {
+                        let best = (0..pts.len())
+                            .filter_map(|i| val(&pts[i].1).map(|x| (i, x)))
+                            .max_by(|a, b| (sign * a.1).total_cmp(&(sign * b.1)));
+                        let Some((i, x0)) = best else { continue };
+                        let lo = pts[i.saturating_sub(1)].0;
+                        let hi = pts[(i + 1).min(pts.len() - 1)].0;
+                        let f = |t: f64| -> f64 {
+                            match val(&invert(g, &c.eval(t))) {
+                                Some(mut x) => {
+                                    if angular {
+                                        x += ((x0 - x) / TAU).round() * TAU;
+                                    }
+                                    sign * x
+                                }
+                                None => f64::NEG_INFINITY,
+                            }
+                        };
+                        let t = golden_max(f, lo, hi);
+                        extra.push((t, invert(g, &c.eval(t))));
+                    }
+                }
+                pts.extend(extra);
+                pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+                edges.push(pts.into_iter().map(|x| x.1).collect());
+            }
+        }
+        let bad = || Error::Geometry {
+            at: self.doc.position_of_id(face.id),
+            source: cadmorph_nurbs::Error::EmptyDomain { start: 0.0, end: 0.0 },
+        };
+        let us: Vec<Vec<f64>> = edges.iter().map(|e| e.iter().filter_map(|s| s.0).collect()).collect();
+        let vs: Vec<Vec<f64>> = edges.iter().map(|e| e.iter().map(|s| s.1).collect()).collect();
+        let u = range(&us, du).ok_or_else(bad)?;
+        let mut v = range(&vs, dv).ok_or_else(bad)?;
+        if let SurfaceGeom::Sphere(_) = g {
+            v = (v.0.max(-std::f64::consts::FRAC_PI_2), v.1.min(std::f64::consts::FRAC_PI_2));
+        }
+        if !(u.1 > u.0 && v.1 > v.0) {
+            return Err(bad());
+        }
+        let _ = Matrix4::<f64>::identity();
+        Ok((u, v))
+    }
+}
+
+/// The file's (u, v) of a point on (or near) the surface; u is `None` on the axis of a
+/// surface of revolution type.
+fn invert(g: &SurfaceGeom, p: &Point3<f64>) -> (Option<f64>, f64) {
+    let local = |f: &cadmorph_nurbs::analytic::Placement| {
+        let d = p - f.origin();
+        (d.dot(&f.x_dir()), d.dot(&f.y_dir()), d.dot(&f.z_dir()))
+    };
+    let angle = |x: f64, y: f64, scale: f64| (x.hypot(y) > 1e-12 * scale.max(1e-300)).then(|| y.atan2(x));
+    match g {
+        SurfaceGeom::Plane(s) => {
+            let (x, y, _) = local(&s.placement);
+            (Some(x), y)
+        }
+        SurfaceGeom::Cylinder(s) => {
+            let (x, y, z) = local(s.placement());
+            (angle(x, y, s.radius()), z)
+        }
+        SurfaceGeom::Cone(s) => {
+            let (x, y, z) = local(s.placement());
+            let v = z / s.semi_angle().cos();
+            let rho = s.radius() + v * s.semi_angle().sin();
+            let u = angle(x, y, s.radius().max(1.0)).map(|a| if rho < 0.0 { a + std::f64::consts::PI } else { a });
+            (u, v)
+        }
+        SurfaceGeom::Sphere(s) => {
+            let (x, y, z) = local(s.placement());
+            (angle(x, y, s.radius()), z.atan2(x.hypot(y)))
+        }
+        SurfaceGeom::Torus(s) => {
+            let (x, y, z) = local(s.placement());
+            let rho = x.hypot(y) - s.major_radius();
+            (angle(x, y, s.major_radius()), z.atan2(rho))
+        }
+        SurfaceGeom::Revolution(s) => {
+            let (o, d) = (s.axis_point(), s.axis_direction());
+            let dom = s.curve().domain();
+            let c0 = s.curve().eval((dom.start() + dom.end()) / 2.0);
+            let radial = |q: &Point3<f64>| {
+                let r = q - o;
+                r - d * r.dot(&d)
+            };
+            let (r0, r) = (radial(&c0), radial(p));
+            let scale = r0.norm().max(1.0);
+            let u = (r.norm() > 1e-12 * scale && r0.norm() > 0.0).then(|| d.cross(&r0).dot(&r).atan2(r0.dot(&r)));
+            // Rotate p back by −u about the axis, then project onto the meridian.
+            let back = match u {
+                Some(a) => {
+                    let rot = nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(d), -a);
+                    o + rot * (p - o)
+                }
+                None => *p,
+            };
+            let v = s.curve().project(&back, 1e-10 * scale).t;
+            (u, v)
+        }
+        SurfaceGeom::Extrusion(s) => {
+            let d = s.direction();
+            let c = s.curve();
+            let o = c.control_points()[0];
+            let m = flatten_along(&d, &o);
+            let flat = c.transformed(&m);
+            let u = flat.project(&m.transform_point(p), 1e-10).t;
+            let v = (p - AnalyticSurface::eval(s, u, 0.0)).dot(&d);
+            (Some(u), v)
+        }
+        SurfaceGeom::Nurbs(_) | SurfaceGeom::Trimmed { .. } => (Some(0.0), 0.0),
+    }
+}
+
+/// The argument of the maximum of `f` on `[a, b]` (golden-section search, 60 steps).
+fn golden_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
+    let r = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
+    let (mut fc, mut fd) = (f(c), f(d));
+    for _ in 0..60 {
+        if fc > fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - r * (b - a);
+            fc = f(c);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + r * (b - a);
+            fd = f(d);
+        }
+    }
+    (a + b) / 2.0
+}
+
+/// The affine projection onto the plane through `o` normal to `d` (unit).
+fn flatten_along(d: &Vector3<f64>, o: &Point3<f64>) -> Matrix4<f64> {
+    let lin = nalgebra::Matrix3::identity() - d * d.transpose();
+    let t = o.coords - lin * o.coords;
+    let mut m = Matrix4::identity();
+    m.fixed_view_mut::<3, 3>(0, 0).copy_from(&lin);
+    m.fixed_view_mut::<3, 1>(0, 3).copy_from(&t);
+    m
+}
+
+/// The range of one direction over all edges' samples.
+fn range(edges: &[Vec<f64>], dir: Dir) -> Option<(f64, f64)> {
+    let all: Vec<f64> = edges.iter().flatten().copied().filter(|x| x.is_finite()).collect();
+    if all.is_empty() {
+        return None;
+    }
+    if dir == Dir::Linear {
+        let lo = all.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = all.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        return Some((lo, hi));
+    }
+    // Unwrap each edge; collect its arc [start, end] with start in [0, 2π).
+    let mut arcs: Vec<(f64, f64)> = Vec::new();
+    for e in edges {
+        let mut it = e.iter().copied().filter(|x| x.is_finite());
+        let Some(first) = it.next() else { continue };
+        let (mut prev, mut lo, mut hi) = (first, first, first);
+        for mut a in it {
+            while a - prev > std::f64::consts::PI {
+                a -= TAU;
+            }
+            while prev - a > std::f64::consts::PI {
+                a += TAU;
+            }
+            lo = lo.min(a);
+            hi = hi.max(a);
+            prev = a;
+        }
+        if hi - lo >= TAU - 1e-9 {
+            let s = normalize(first);
+            return Some((s, s + TAU));
+        }
+        let s = normalize(lo);
+        arcs.push((s, s + (hi - lo)));
+    }
+    arcs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // Merge on the circle and find the largest uncovered gap.
+    let mut merged: Vec<(f64, f64)> = Vec::new();
+    for (s, e) in arcs {
+        match merged.last_mut() {
+            Some(last) if s <= last.1 + 1e-12 => last.1 = last.1.max(e),
+            _ => merged.push((s, e)),
+        }
+    }
+    let n = merged.len();
+    let mut best_gap = -1.0;
+    let mut start = merged[0].0;
+    for i in 0..n {
+        let end = merged[i].1;
+        let next = if i + 1 < n { merged[i + 1].0 } else { merged[0].0 + TAU };
+        let gap = next - end;
+        if gap > best_gap {
+            best_gap = gap;
+            start = next;
+        }
+    }
+    if best_gap <= 1e-9 {
+        let s = normalize(merged[0].0);
+        return Some((s, s + TAU));
+    }
+    let s = normalize(start);
+    Some((s, s + TAU - best_gap))
+}
+
+/// An angle in [0, 2π), with values a rounding error below 0 or 2π taken as 0.
+fn normalize(a: f64) -> f64 {
+    let mut x = a.rem_euclid(TAU);
+    if x > TAU - 1e-9 {
+        x = 0.0;
+    }
+    if x.abs() < 1e-12 {
+        0.0
+    } else {
+        x
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn angular_ranges() {
+        let q = std::f64::consts::FRAC_PI_2;
+        // One quarter arc.
+        assert_eq!(range(&[vec![0.0, 0.5, 1.0]], Dir::Angle), Some((0.0, 1.0)));
+        // An arc crossing the ±π cut.
+        let r = range(&[vec![3.0, 3.1, -3.1, -3.0]], Dir::Angle).unwrap();
+        assert!((r.0 - 3.0).abs() < 1e-12 && (r.1 - (TAU - 3.0)).abs() < 1e-12);
+        // A full circle edge.
+        let full: Vec<f64> =
+            (0..=24).map(|i| (i as f64 * TAU / 24.0 + q).sin().atan2((i as f64 * TAU / 24.0 + q).cos())).collect();
+        let r = range(&[full], Dir::Angle).unwrap();
+        assert!((r.1 - r.0 - TAU).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,610 @@
+//! Shape representations, assembly placements, faces and edges.
+
+use std::collections::HashMap;
+
+use cadmorph_nurbs::analytic::Placement;
+use cadmorph_nurbs::math::{Matrix4, Point3};
+
+use super::geometry::SurfaceGeom;
+use super::units::contains;
+use super::{Ctx, Edge, Face, SurfaceKind, WorldCurve, WorldSurface};
+use crate::document::Document;
+use crate::error::{Error, Result};
+use crate::read::param::Body;
+use crate::EntityId;
+
+/// An edge's curve, range `[t0, t1]` along it, and its start and end points.
+pub(crate) type EdgeGeometry = (super::geometry::CurveGeom, f64, f64, Point3<f64>, Point3<f64>);
+
+/// A shape representation placed in the world.
+#[derive(Debug, Clone)]
+pub(crate) struct Occurrence {
+    pub rep: EntityId,
+    pub transform: Matrix4<f64>,
+}
+
+fn is_shape_rep(name: &str) -> bool {
+    name.ends_with("REPRESENTATION")
+        && !matches!(
+            name,
+            "DEFINITIONAL_REPRESENTATION"
+                | "SHAPE_DEFINITION_REPRESENTATION"
+                | "CONTEXT_DEPENDENT_SHAPE_REPRESENTATION"
+                | "PROPERTY_DEFINITION_REPRESENTATION"
+        )
+}
+
+pub(crate) fn placement_matrix(p: &Placement, scale: f64) -> Matrix4<f64> {
+    let (x, y, z, o) = (p.x_dir(), p.y_dir(), p.z_dir(), p.origin().coords * scale);
+    Matrix4::new(x.x, y.x, z.x, o.x, x.y, y.y, z.y, o.y, x.z, y.z, z.z, o.z, 0.0, 0.0, 0.0, 1.0)
+}
+
+fn rigid_inverse(m: &Matrix4<f64>) -> Matrix4<f64> {
+    m.try_inverse().unwrap_or_else(Matrix4::identity)
+}
+
+impl Ctx<'_> {
+    /// Every shape representation with its world placements, in file order of the
+    /// representations (roots first, then children depth-first).
+    pub fn occurrences(&self, model_metres: f64) -> Result<Vec<Occurrence>> {
+        let doc = self.doc;
+        let mut reps = Vec::new(); // (id, scale)
+        let mut rep_scale: HashMap<u64, f64> = HashMap::new();
+        let mut context_scale: HashMap<u64, f64> = HashMap::new();
+        let mut children: HashMap<u64, Vec<(u64, Option<EntityId>)>> = HashMap::new();
+        let mut is_child: HashMap<u64, bool> = HashMap::new();
+        for k in 0..doc.instances.len() {
+            let inst = &doc.instances[k];
+            let name = doc.name_of(k);
+            let id = EntityId(inst.id);
+            if !inst.complex && is_shape_rep(name) {
+                let r = self.any(id)?;
+                if r.rec.params.len() != 3 || r.param(1)?.as_list().is_none() {
+                    continue;
+                }
+                let scale = match r.param(2)?.as_ref_id() {
+                    Some(c) => match context_scale.get(&c.0) {
+                        Some(&s) => s,
+                        None => {
+                            let s = self.context_units(c)?.0.map_or(1.0, |l| l.metres / model_metres);
+                            context_scale.insert(c.0, s);
+                            s
+                        }
+                    },
+                    None => 1.0,
+                };
+                reps.push(id);
+                rep_scale.insert(id.0, scale);
+            } else if (!inst.complex
+                && matches!(name, "SHAPE_REPRESENTATION_RELATIONSHIP" | "REPRESENTATION_RELATIONSHIP"))
+                || (inst.complex && contains(doc.text(k), b"REPRESENTATION_RELATIONSHIP"))
+            {
+                let body = doc.body_at(k)?;
+                let Some(rr) = body
+                    .record("REPRESENTATION_RELATIONSHIP")
+                    .or_else(|| body.record("SHAPE_REPRESENTATION_RELATIONSHIP"))
+                else {
+                    continue;
+                };
+                let r = super::Rec::from_record(doc, k, rr.clone());
+                r.arity(4)?;
+                let (child, parent) = (r.reference(2)?, r.reference(3)?);
+                let transform = match body.record("REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION") {
+                    Some(t) => {
+                        let t = super::Rec::from_record(doc, k, t.clone());
+                        t.arity(1)?;
+                        Some(t.reference(0)?)
+                    }
+                    None => None,
+                };
+                children.entry(parent.0).or_default().push((child.0, transform));
+                is_child.insert(child.0, true);
+            }
+        }
+        let limit = doc.instances.len() * 4 + 1024;
+        let mut out = Vec::new();
+        for &root in reps.iter().filter(|r| !is_child.contains_key(&r.0)) {
+            let mut stack = vec![root.0];
+            self.descend(root, Matrix4::identity(), &rep_scale, &children, &mut stack, &mut out, limit)?;
+        }
+        Ok(out)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn descend(
+        &self,
+        rep: EntityId,
+        world: Matrix4<f64>,
+        rep_scale: &HashMap<u64, f64>,
+        children: &HashMap<u64, Vec<(u64, Option<EntityId>)>>,
+        stack: &mut Vec<u64>,
+        out: &mut Vec<Occurrence>,
+        limit: usize,
+    ) -> Result<()> {
+        if out.len() >= limit {
+            return Err(Error::Limit {
+                at: self.doc.position_of_id(rep),
+                what: "more assembly occurrences than the file can describe",
+            });
+        }
+        let s = rep_scale.get(&rep.0).copied().unwrap_or(1.0);
+        out.push(Occurrence { rep, transform: world * Matrix4::new_scaling(s) });
+        let Some(kids) = children.get(&rep.0) else { return Ok(()) };
+        for &(child, t) in kids {
+            if stack.contains(&child) {
+                return Err(Error::ReferenceCycle {
+                    at: self.doc.position_of_id(EntityId(child)),
+                    target: EntityId(child),
+                });
+            }
+            if stack.len() > 256 {
+                return Err(Error::Limit { at: self.doc.position_of_id(rep), what: "assembly nested too deeply" });
+            }
+            let sc = rep_scale.get(&child).copied().unwrap_or(1.0);
+            let rel = match t {
+                None => Matrix4::identity(),
+                Some(t) => {
+                    let r = self.any(t)?;
+                    if r.name() != "ITEM_DEFINED_TRANSFORMATION" {
+                        return Err(Error::UnexpectedEntity {
+                            at: self.doc.position_of_id(t),
+                            expected: "ITEM_DEFINED_TRANSFORMATION",
+                            found: r.name().to_owned(),
+                        });
+                    }
+                    r.arity(4)?;
+                    let from = placement_matrix(&self.placement(r.reference(2)?)?, sc);
+                    let to = placement_matrix(&self.placement(r.reference(3)?)?, s);
+                    // Parent coordinates of a child point: to · from⁻¹, in model units;
+                    // `world` already holds the parent's scale, so undo it here.
+                    Matrix4::new_scaling(1.0 / s) * to * rigid_inverse(&from)
+                }
+            };
+            if rep_scale.contains_key(&child) {
+                stack.push(child);
+                // The child's own scale is applied by `descend`; `rel` works in model
+                // units, so remove it again from the child's point of view.
+                let w = world * Matrix4::new_scaling(s) * rel * Matrix4::new_scaling(1.0 / sc);
+                self.descend(EntityId(child), w, rep_scale, children, stack, out, limit)?;
+                stack.pop();
+            }
+        }
+        Ok(())
+    }
+
+    /// The faces reachable from one representation item, in file order.
+    fn item_faces(&self, id: EntityId, out: &mut Vec<(EntityId, bool)>, depth: usize) -> Result<()> {
+        if depth > 16 {
+            return Err(Error::Limit { at: self.doc.position_of_id(id), what: "shells nested too deeply" });
+        }
+        let k = self.index(id)?;
+        if self.doc.instances[k].complex {
+            return Ok(());
+        }
+        let name = self.doc.name_of(k);
+        match name {
+            "MANIFOLD_SOLID_BREP" | "FACETED_BREP" => {
+                let r = self.any(id)?;
+                r.arity(2)?;
+                self.item_faces(r.reference(1)?, out, depth + 1)
+            }
+            "BREP_WITH_VOIDS" => {
+                let r = self.any(id)?;
+                r.arity(3)?;
+                self.item_faces(r.reference(1)?, out, depth + 1)?;
+                for v in r.refs(2)? {
+                    self.item_faces(v, out, depth + 1)?;
+                }
+                Ok(())
+            }
+            "SHELL_BASED_SURFACE_MODEL" | "FACE_BASED_SURFACE_MODEL" => {
+                let r = self.any(id)?;
+                r.arity(2)?;
+                for s in r.refs(1)? {
+                    self.item_faces(s, out, depth + 1)?;
+                }
+                Ok(())
+            }
+            "CLOSED_SHELL" | "OPEN_SHELL" | "CONNECTED_FACE_SET" => {
+                let r = self.any(id)?;
+                r.arity(2)?;
+                for f in r.refs(1)? {
+                    self.item_faces(f, out, depth + 1)?;
+                }
+                Ok(())
+            }
+            "ORIENTED_CLOSED_SHELL" | "ORIENTED_OPEN_SHELL" => {
+                let r = self.any(id)?;
+                r.arity(4)?;
+                self.item_faces(r.reference(2)?, out, depth + 1)
+            }
+            "ADVANCED_FACE" | "FACE_SURFACE" => {
+                out.push((id, true));
+                Ok(())
+            }
+            "ORIENTED_FACE" => {
+                let r = self.any(id)?;
+                r.arity(4)?;
+                let start = out.len();
+                self.item_faces(r.reference(2)?, out, depth + 1)?;
+                if !r.bool(3)? {
+                    for f in &mut out[start..] {
+                        f.1 = !f.1;
+                    }
+                }
+                Ok(())
+            }
+            _ => Ok(()),
+        }
+    }
+
+    pub fn surface_kind(&self, g: &SurfaceGeom) -> SurfaceKind {
+        match g {
+            SurfaceGeom::Plane(_) => SurfaceKind::Plane,
+            SurfaceGeom::Cylinder(_) => SurfaceKind::Cylinder,
+            SurfaceGeom::Cone(_) => SurfaceKind::Cone,
+            SurfaceGeom::Sphere(_) => SurfaceKind::Sphere,
+            SurfaceGeom::Torus(_) => SurfaceKind::Torus,
+            SurfaceGeom::Revolution(_) => SurfaceKind::Revolution,
+            SurfaceGeom::Extrusion(_) => SurfaceKind::Extrusion,
+            SurfaceGeom::Nurbs(s) => SurfaceKind::BSpline {
+                u_degree: s.u_degree(),
+                v_degree: s.v_degree(),
+                n_u: s.n_u(),
+                n_v: s.n_v(),
+                rational: s.is_rational(),
+            },
+            SurfaceGeom::Trimmed { basis, .. } => self.surface_kind(basis),
+        }
+    }
+}
+
+impl Document {
+    pub(crate) fn ctx(&self) -> Result<(Ctx<'_>, super::Units)> {
+        let units = self.units()?;
+        Ok((Ctx::new(self, units.plane_angle), units))
+    }
+
+    /// Every face of every shape representation, once per assembly occurrence, with its
+    /// world placement. Faces of the same representation come in file order (OCCT's
+    /// order for single-part files).
+    ///
+    /// # Errors
+    ///
+    /// Malformed topology or placements (arity, parameter types, unexpected entities),
+    /// placement cycles ([`Error::ReferenceCycle`]), absurd assembly fan-out
+    /// ([`Error::Limit`]). A face whose surface cannot be converted is still listed,
+    /// with [`SurfaceKind::Other`].
+    pub fn faces(&self) -> Result<Vec<Face>> {
+        let (ctx, units) = self.ctx()?;
+        let mut out = Vec::new();
+        let mut kinds: HashMap<u64, SurfaceKind> = HashMap::new();
+        for (occ_index, occ) in ctx.occurrences(units.length.metres)?.into_iter().enumerate() {
+            let rep = ctx.any(occ.rep)?;
+            let mut faces = Vec::new();
+            for item in rep.refs(1)? {
+                ctx.item_faces(item, &mut faces, 0)?;
+            }
+            let _ = occ_index;
+            for (fid, orient) in faces {
+                let r = ctx.any(fid)?;
+                r.arity(4)?;
+                let surface = r.reference(2)?;
+                let same_sense = r.bool(3)? == orient;
+                let mut bounds = Vec::new();
+                for b in r.refs(1)? {
+                    let br = ctx.any(b)?;
+                    if !matches!(br.name(), "FACE_BOUND" | "FACE_OUTER_BOUND") {
+                        return Err(Error::UnexpectedEntity {
+                            at: self.position_of_id(b),
+                            expected: "FACE_BOUND or FACE_OUTER_BOUND",
+                            found: br.name().to_owned(),
+                        });
+                    }
+                    br.arity(3)?;
+                    bounds.push((b, br.reference(1)?, br.bool(2)?));
+                }
+                let kind = match kinds.get(&surface.0) {
+                    Some(k) => k.clone(),
+                    None => {
+                        let k = match ctx.surface(surface) {
+                            Ok(g) => ctx.surface_kind(&g),
+                            Err(Error::ReferenceCycle { at, target }) => {
+                                return Err(Error::ReferenceCycle { at, target })
+                            }
+                            Err(_) => {
+                                SurfaceKind::Other(self.get(surface).map_or(String::new(), |i| i.name().to_owned()))
+                            }
+                        };
+                        kinds.insert(surface.0, k.clone());
+                        k
+                    }
+                };
+                let occurrence = out.iter().filter(|f: &&Face| f.id == fid).count();
+                out.push(Face {
+                    id: fid,
+                    surface,
+                    kind,
+                    same_sense,
+                    bounds,
+                    representation: occ.rep,
+                    occurrence,
+                    transform: occ.transform,
+                });
+            }
+        }
+        Ok(out)
+    }
+
+    /// The face's surface as a world-coordinate NURBS in model units: B-spline surfaces
+    /// as they are (whole domain), analytic surfaces in their exact NURBS form over the
+    /// face's parameter box (found by inverting points of its edges onto the surface).
+    ///
+    /// # Errors
+    ///
+    /// The surface's own errors, [`Error::Geometry`] when the box is empty, and
+    /// [`Error::UnexpectedEntity`] for surfaces this crate does not convert.
+    pub fn face_nurbs(&self, face: &Face) -> Result<WorldSurface> {
+        let (ctx, _) = self.ctx()?;
+        let g = ctx.surface(face.surface)?;
+        let (u, v) = match &g {
+            SurfaceGeom::Nurbs(s) => {
+                let (du, dv) = cadmorph_nurbs::Surface::domain(s);
+                ((*du.start(), *du.end()), (*dv.start(), *dv.end()))
+            }
+            SurfaceGeom::Trimmed { u, v, .. } => (*u, *v),
+            _ => ctx.face_box(face, &g)?,
+        };
+        let exact =
+            g.to_nurbs(u, v).map_err(|e| Error::Geometry { at: self.position_of_id(face.surface), source: e })?;
+        let mut surface = exact.surface;
+        if face.transform != Matrix4::identity() {
+            surface.transform_by(&face.transform);
+        }
+        Ok(WorldSurface { surface, u_map: exact.u_map, v_map: exact.v_map, u_range: u, v_range: v })
+    }
+
+    /// [`faces`](Self::faces) and [`face_nurbs`](Self::face_nurbs) of each, in order.
+    ///
+    /// # Errors
+    ///
+    /// The first error of either.
+    pub fn world_surfaces(&self) -> Result<Vec<WorldSurface>> {
+        self.faces()?.iter().map(|f| self.face_nurbs(f)).collect()
+    }
+
+    /// The edges of the given faces (from [`faces`](Self::faces)), once per edge and
+    /// occurrence, each with the indices of the faces it bounds. The seam checker builds
+    /// adjacency from this.
+    ///
+    /// # Errors
+    ///
+    /// Malformed loops or edges.
+    pub fn edges(&self, faces: &[Face]) -> Result<Vec<Edge>> {
+        let (ctx, _) = self.ctx()?;
+        let mut out: Vec<Edge> = Vec::new();
+        let mut seen: HashMap<(u64, usize, EntityId), usize> = HashMap::new();
+        for (fi, face) in faces.iter().enumerate() {
+            for &(_, lp, _) in &face.bounds {
+                for (e, _) in ctx.loop_edges(lp)? {
+                    let key = (e.0, face.occurrence, face.representation);
+                    if let Some(&i) = seen.get(&key) {
+                        out[i].faces.push(fi);
+                        continue;
+                    }
+                    let r = ctx.simple(e, "EDGE_CURVE")?;
+                    r.arity(5)?;
+                    seen.insert(key, out.len());
+                    out.push(Edge {
+                        id: e,
+                        start: r.reference(1)?,
+                        end: r.reference(2)?,
+                        curve: r.reference(3)?,
+                        same_sense: r.bool(4)?,
+                        faces: vec![fi],
+                        occurrence: face.occurrence,
+                        transform: face.transform,
+                    });
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// The edge's curve in world coordinates, trimmed to the edge.
+    ///
+    /// # Errors
+    ///
+    /// The curve's errors; [`Error::Geometry`] for an empty range.
+    pub fn edge_curve(&self, edge: &Edge) -> Result<WorldCurve> {
+        let (ctx, _) = self.ctx()?;
+        let (c, t0, t1, p0, p1) = ctx.edge_geometry(edge.id)?;
+        let (mut curve, map) =
+            c.to_nurbs(t0, t1).map_err(|e| Error::Geometry { at: self.position_of_id(edge.curve), source: e })?;
+        curve.transform_by(&edge.transform);
+        let tr = |p: Point3<f64>| edge.transform.transform_point(&p);
+        Ok(WorldCurve { curve, map, range: (t0, t1), start: tr(p0), end: tr(p1) })
+    }
+
+    /// The world position of a vertex (`VERTEX_POINT`) under a transform.
+    ///
+    /// # Errors
+    ///
+    /// When `#id` is not a vertex with a point.
+    pub fn vertex_point(&self, id: EntityId) -> Result<Point3<f64>> {
+        let ctx = Ctx::new(self, 1.0);
+        let r = ctx.simple(id, "VERTEX_POINT")?;
+        r.arity(2)?;
+        ctx.point(r.reference(1)?)
+    }
+
+    /// The B-spline surface `#id` in local coordinates and file units.
+    ///
+    /// # Errors
+    ///
+    /// When `#id` is not a (rational) `B_SPLINE_SURFACE_WITH_KNOTS` or is invalid.
+    pub fn bspline_surface(&self, id: EntityId) -> Result<cadmorph_nurbs::NurbsSurface> {
+        let ctx = Ctx::new(self, 1.0);
+        let k = ctx.index(id)?;
+        ctx.bspline_surface(k, &self.body_at(k)?)
+    }
+
+    /// The B-spline curve `#id` (simple or rational complex form) over its whole domain,
+    /// local coordinates and file units.
+    ///
+    /// # Errors
+    ///
+    /// When `#id` is not a B-spline curve or is invalid.
+    pub fn bspline_curve(&self, id: EntityId) -> Result<cadmorph_nurbs::NurbsCurve> {
+        match Ctx::new(self, 1.0).curve(id)? {
+            super::geometry::CurveGeom::Nurbs(c) => Ok(c),
+            _ => Err(Error::UnexpectedEntity {
+                at: self.position_of_id(id),
+                expected: "a B-spline curve",
+                found: self.get(id).map_or(String::new(), |i| i.name().to_owned()),
+            }),
+        }
+    }
+
+    /// The point `#id` (`CARTESIAN_POINT`) in local coordinates and file units.
+    ///
+    /// # Errors
+    ///
+    /// When `#id` is not a Cartesian point.
+    pub fn point(&self, id: EntityId) -> Result<Point3<f64>> {
+        Ctx::new(self, 1.0).point(id)
+    }
+
+    /// The 3D curve `#id` (any supported curve entity) as NURBS over `[t0, t1]` of its
+    /// own parameter, local coordinates.
+    ///
+    /// # Errors
+    ///
+    /// Unsupported or malformed curves, empty ranges.
+    pub fn curve_nurbs(&self, id: EntityId, t0: f64, t1: f64) -> Result<cadmorph_nurbs::NurbsCurve> {
+        let (ctx, _) = self.ctx()?;
+        ctx.curve(id)?
+            .to_nurbs(t0, t1)
+            .map(|(c, _)| c)
+            .map_err(|e| Error::Geometry { at: self.position_of_id(id), source: e })
+    }
+
+    /// The control point instances of a B-spline curve or surface (row-major for
+    /// surfaces, `i * n_v + j`), as the file lists them (shared points repeat).
+    ///
+    /// # Errors
+    ///
+    /// When `#id` is not a B-spline curve or surface.
+    pub fn control_point_ids(&self, id: EntityId) -> Result<Vec<EntityId>> {
+        let ctx = Ctx::new(self, 1.0);
+        let k = ctx.index(id)?;
+        let body = self.body_at(k)?;
+        let (rec, idx) = match &body {
+            Body::Simple(r) if r.name == "B_SPLINE_SURFACE_WITH_KNOTS" => (r.clone(), 3),
+            Body::Simple(r) if r.name == "B_SPLINE_CURVE_WITH_KNOTS" => (r.clone(), 2),
+            Body::Complex(_) => match body.record("B_SPLINE_SURFACE").or_else(|| body.record("B_SPLINE_CURVE")) {
+                Some(r) => (r.clone(), if r.name == "B_SPLINE_SURFACE" { 2 } else { 1 }),
+                None => return Err(not_bspline(self, k)),
+            },
+            _ => return Err(not_bspline(self, k)),
+        };
+        let r = super::Rec::from_record(self, k, rec);
+        let list = r.list(idx)?;
+        let mut out = Vec::new();
+        for p in list {
+            match p.as_list() {
+                Some(row) => {
+                    for q in row {
+                        out.push(q.as_ref_id().ok_or_else(|| r.err_at(q, idx, "point references"))?);
+                    }
+                }
+                None => out.push(p.as_ref_id().ok_or_else(|| r.err_at(p, idx, "point references"))?),
+            }
+        }
+        Ok(out)
+    }
+}
+
+fn not_bspline(doc: &Document, k: usize) -> Error {
+    Error::UnexpectedEntity {
+        at: doc.position_of(k, 0),
+        expected: "a B-spline curve or surface",
+        found: doc.name_of(k).to_owned(),
+    }
+}
+
+impl Ctx<'_> {
+    /// `(EDGE_CURVE, orientation)` of each `ORIENTED_EDGE` of an `EDGE_LOOP` (empty for
+    /// vertex and poly loops).
+    pub fn loop_edges(&self, lp: EntityId) -> Result<Vec<(EntityId, bool)>> {
+        let r = self.any(lp)?;
+        if r.name() != "EDGE_LOOP" {
+            return Ok(vec![]);
+        }
+        r.arity(2)?;
+        let mut out = Vec::new();
+        for oe in r.refs(1)? {
+            let o = self.any(oe)?;
+            match o.name() {
+                "ORIENTED_EDGE" => {
+                    o.arity(5)?;
+                    out.push((o.reference(3)?, o.bool(4)?));
+                }
+                "EDGE_CURVE" => out.push((oe, true)),
+                other => {
+                    return Err(Error::UnexpectedEntity {
+                        at: self.doc.position_of_id(oe),
+                        expected: "ORIENTED_EDGE",
+                        found: other.to_owned(),
+                    })
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// An edge's curve, its parameter range along the curve's direction, and its vertex
+    /// points (local coordinates).
+    pub fn edge_geometry(&self, e: EntityId) -> Result<EdgeGeometry> {
+        let r = self.simple(e, "EDGE_CURVE")?;
+        r.arity(5)?;
+        let vp = |v: EntityId| -> Result<Point3<f64>> {
+            let vr = self.simple(v, "VERTEX_POINT")?;
+            vr.arity(2)?;
+            self.point(vr.reference(1)?)
+        };
+        let (p0, p1) = (vp(r.reference(1)?)?, vp(r.reference(2)?)?);
+        let c = self.curve(r.reference(3)?)?;
+        let same = r.bool(4)?;
+        let tol = 1e-9 * (p0.coords.norm() + p1.coords.norm() + 1.0);
+        let (ta, tb) = (c.param_of(&p0, tol), c.param_of(&p1, tol));
+        let (mut t0, mut t1) = if same { (ta, tb) } else { (tb, ta) };
+        if let Some(per) = c.period() {
+            if (p0 - p1).norm() <= tol * 10.0 && (t1 - t0).abs() < 1e-9 {
+                t1 = t0 + per;
+            }
+            while t1 <= t0 {
+                t1 += per;
+            }
+            while t1 - t0 > per + 1e-12 {
+                t1 -= per;
+            }
+        } else if t1 < t0 {
+            std::mem::swap(&mut t0, &mut t1);
+        }
+        if let Some((a, b)) = c.domain() {
+            // A closed edge (one vertex) on a closed bounded curve: the whole curve.
+            if (t1 - t0).abs() <= 1e-9 * (b - a).abs().max(1.0) && (p0 - p1).norm() <= tol * 10.0 {
+                t0 = a;
+                t1 = b;
+            }
+        }
+        if t1.partial_cmp(&t0) != Some(std::cmp::Ordering::Greater) {
+            return Err(Error::Geometry {
+                at: self.doc.position_of_id(e),
+                source: cadmorph_nurbs::Error::EmptyDomain { start: t0, end: t1 },
+            });
+        }
+        Ok((c, t0, t1, p0, p1))
+    }
+}
