@@ -264,6 +264,31 @@ fn newton_curve<C: Curve + ?Sized>(c: &C, p: &Point3<f64>, t0: f64, (a, b): (f64
 }
 
 /// Projection onto any surface from the sample grid `us × vs`.
+impl NurbsSurface {
+    /// The closest point to `p` found by Newton iteration from the start `(u0, v0)`
+    /// alone, without the global sampling of [`SurfaceProject::project`]: the local
+    /// projection, for when a good start is known (a point matched by parameter on a
+    /// neighbouring patch, the previous sample along an edge). It never returns a point
+    /// farther from `p` than `S(u0, v0)`.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use cadmorph_nurbs::math::Point3;
+    /// use cadmorph_nurbs::NurbsSurface;
+    /// let s = NurbsSurface::bilinear([[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.]]);
+    /// let pr = s.project_from(&Point3::new(0.3, 0.6, 2.0), (0.5, 0.5), 1e-12);
+    /// assert!((pr.u - 0.3).abs() < 1e-12 && (pr.v - 0.6).abs() < 1e-12);
+    /// ```
+    pub fn project_from(&self, p: &Point3<f64>, (u0, v0): (f64, f64), tol: f64) -> Projection {
+        let (du, dv) = self.domain();
+        let domain = ((*du.start(), *du.end()), (*dv.start(), *dv.end()));
+        let u0 = u0.clamp(domain.0 .0, domain.0 .1);
+        let v0 = v0.clamp(domain.1 .0, domain.1 .1);
+        newton_surface(self, p, (u0, v0), domain, tol)
+    }
+}
+
 fn project_surface<S: Surface + ?Sized>(s: &S, us: &[f64], vs: &[f64], p: &Point3<f64>, tol: f64) -> Projection {
     let (nu, nv) = (us.len(), vs.len());
     let mut d = Vec::with_capacity(nu * nv);

@@ -1,0 +1,178 @@
+//! Shared boundaries of untrimmed patches found from geometry alone, for files that
+//! carry no topology (bare IGES 128 surfaces).
+
+use cadmorph_nurbs::math::Point3;
+use cadmorph_nurbs::{Aabb, Curve, CurveProject, NurbsCurve, NurbsSurface, Side};
+use serde::Serialize;
+
+/// One side of one patch: `patch` indexes the caller's patch list.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+pub struct SideRef {
+    /// Index of the patch.
+    pub patch: usize,
+    /// Which iso-boundary.
+    #[serde(serialize_with = "side_name")]
+    pub side: Side,
+}
+
+fn side_name<S: serde::Serializer>(side: &Side, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(match side {
+        Side::UMin => "u_min",
+        Side::UMax => "u_max",
+        Side::VMin => "v_min",
+        Side::VMax => "v_max",
+    })
+}
+
+/// Two iso-boundaries that coincide (over part of their length at least).
+///
+/// `a_range` and `b_range` are the overlapping parameter intervals on each side's
+/// boundary curve, oriented so that `a_range.0` meets `b_range.0` (so `b_range` runs
+/// backwards when the two boundaries run in opposite directions).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SharedBoundary {
+    /// The first side.
+    pub a: SideRef,
+    /// The second side.
+    pub b: SideRef,
+    /// Overlap on `a`'s boundary curve, increasing.
+    pub a_range: (f64, f64),
+    /// Matching overlap on `b`'s boundary curve (decreasing if reversed).
+    pub b_range: (f64, f64),
+}
+
+impl SharedBoundary {
+    /// Whether `b` runs against `a`.
+    pub fn reversed(&self) -> bool {
+        self.b_range.1 < self.b_range.0
+    }
+
+    /// The parameter on `b` matched to parameter `t` on `a`, by linear map of the ranges.
+    pub fn b_param(&self, t: f64) -> f64 {
+        let f = (t - self.a_range.0) / (self.a_range.1 - self.a_range.0);
+        self.b_range.0 + f * (self.b_range.1 - self.b_range.0)
+    }
+}
+
+/// Boundary curves of a patch, with their bounding boxes.
+struct Boundary {
+    side: SideRef,
+    curve: NurbsCurve,
+    bbox: Aabb,
+    length: f64,
+}
+
+fn polyline_length(c: &NurbsCurve, n: usize) -> f64 {
+    let d = c.domain();
+    let pts: Vec<Point3<f64>> =
+        (0..=n).map(|i| c.eval(d.start() + (d.end() - d.start()) * i as f64 / n as f64)).collect();
+    pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
+}
+
+/// Finds every pair of iso-boundaries of `patches` that lie on each other within `tol`
+/// (model units) over at least `min_fraction` of the shorter one's length.
+///
+/// Each boundary is sampled at `samples` points; a sample counts as lying on the other
+/// boundary when its projection onto that boundary curve is within `tol`. The overlap is
+/// the parameter interval of the matched samples, and the matching interval on the other
+/// side comes from projecting its two ends. Collapsed boundaries (poles, whose length
+/// is below `tol`) never pair.
+///
+/// # Tolerance
+///
+/// `tol` should exceed the gaps one wants to see (a defective seam of 2 mm needs
+/// `tol` above 2 mm) and stay below the patches' size; `1e-3 × model size` is a
+/// reasonable default for CAD that was joined by construction.
+pub fn shared_boundaries(
+    patches: &[&NurbsSurface],
+    tol: f64,
+    samples: usize,
+    min_fraction: f64,
+) -> Vec<SharedBoundary> {
+    let samples = samples.max(3);
+    let mut boundaries = Vec::new();
+    for (patch, s) in patches.iter().enumerate() {
+        for side in Side::ALL {
+            let curve = s.boundary(side);
+            let length = polyline_length(&curve, 64);
+            if length <= tol {
+                continue;
+            }
+            let bbox = curve.bounding_box().inflated(tol);
+            boundaries.push(Boundary { side: SideRef { patch, side }, curve, bbox, length });
+        }
+    }
+    let mut out = Vec::new();
+    for i in 0..boundaries.len() {
+        for j in i + 1..boundaries.len() {
+            let (a, b) = (&boundaries[i], &boundaries[j]);
+            if a.side.patch == b.side.patch || a.bbox.intersection(&b.bbox).is_none() {
+                continue;
+            }
+            // Sample the shorter side onto the longer one, then orient as (a, b) in index order.
+            let (short, long, swapped) = if a.length <= b.length { (a, b, false) } else { (b, a, true) };
+            let Some((short_range, long_range)) = overlap(&short.curve, &long.curve, tol, samples, min_fraction) else {
+                continue;
+            };
+            let shared = if swapped {
+                orient(b.side, a.side, long_range, short_range)
+            } else {
+                orient(a.side, b.side, short_range, long_range)
+            };
+            out.push(shared);
+        }
+    }
+    out
+}
+
+fn orient(a: SideRef, b: SideRef, a_range: (f64, f64), b_range: (f64, f64)) -> SharedBoundary {
+    if a_range.0 <= a_range.1 {
+        SharedBoundary { a, b, a_range, b_range }
+    } else {
+        SharedBoundary { a, b, a_range: (a_range.1, a_range.0), b_range: (b_range.1, b_range.0) }
+    }
+}
+
+/// The matched intervals of `short` on `long`: `(range on short, range on long)` with
+/// the first entries matched, or `None` if less than `min_fraction` of `short` lies on `long`.
+fn overlap(
+    short: &NurbsCurve,
+    long: &NurbsCurve,
+    tol: f64,
+    samples: usize,
+    min_fraction: f64,
+) -> Option<((f64, f64), (f64, f64))> {
+    let d = short.domain();
+    let (t0, t1) = (*d.start(), *d.end());
+    let mut first: Option<(f64, f64)> = None;
+    let mut last: Option<(f64, f64)> = None;
+    let mut matched = 0;
+    for i in 0..samples {
+        let t = t0 + (t1 - t0) * i as f64 / (samples - 1) as f64;
+        let pr = long.project(&short.eval(t), tol * 1e-3);
+        if pr.distance_sq <= tol * tol {
+            matched += 1;
+            if first.is_none() {
+                first = Some((t, pr.t));
+            }
+            last = Some((t, pr.t));
+        }
+    }
+    if (matched as f64) < min_fraction * samples as f64 {
+        return None;
+    }
+    let (first, last) = (first?, last?);
+    // Snap the matched ends on `long` to its own ends when they lie within `tol` of them
+    // in space, so that two boundaries that meet end to end (up to the gap being
+    // measured) are recognised as covering each other completely.
+    let ld = long.domain();
+    let snap = |t: f64| {
+        for end in [*ld.start(), *ld.end()] {
+            if (long.eval(t) - long.eval(end)).norm() <= tol {
+                return end;
+            }
+        }
+        t
+    };
+    Some(((first.0, last.0), (snap(first.1), snap(last.1))))
+}

@@ -1,0 +1,126 @@
+//! Refinement under a non-affine FFD keeps the hull's seams closed; repair closes the
+//! defective seam exactly.
+
+use cadmorph_morph::math::{Point3, Vector3};
+use cadmorph_morph::{Deformation, Ffd};
+use cadmorph_nurbs::NurbsSurface;
+use cadmorph_seam::{
+    deformed, measure_boundary, morph_error, refine_for, refine_uniform, repair, shared_boundaries, Face,
+    RefineOptions, SeamReport,
+};
+use cadmorph_testkit::occt::reference;
+
+fn patches(name: &str) -> Vec<NurbsSurface> {
+    reference(name).faces.iter().map(|f| f.to_nurbs().expect("B-spline").expect("valid")).collect()
+}
+
+fn seams(p: &[NurbsSurface]) -> SeamReport {
+    let refs: Vec<&NurbsSurface> = p.iter().collect();
+    let edges = shared_boundaries(&refs, 0.145, 64, 0.9);
+    let faces: Vec<Face> = p.iter().map(|s| Face { surface: s, reversed: false }).collect();
+    SeamReport::new(edges.iter().map(|e| measure_boundary(&faces, e, 120)).collect())
+}
+
+/// A bow-dome-like FFD: a 4×3×3 lattice over the forward 60 % of the hull that pushes
+/// the middle control points outwards and down (non-affine).
+fn bulge() -> Ffd {
+    let mut ffd =
+        Ffd::try_new([4, 3, 3], Point3::new(40.0, -12.0, -2.0), Vector3::new(110.0, 24.0, 17.0), Vector3::zeros())
+            .unwrap();
+    for i in 1..3 {
+        ffd.mu_mut().set(i, 2, 1, [0.0, 0.08, -0.05]);
+        ffd.mu_mut().set(i, 0, 1, [0.0, -0.08, -0.05]);
+        ffd.mu_mut().set(i, 1, 1, [0.03, 0.0, -0.06]);
+    }
+    ffd
+}
+
+/// The hull with the middle patch refined in v, as CAD patches often are: the two sides
+/// of each seam then have different boundary control rows, so moving control points
+/// alone opens the seams.
+fn mismatched_hull() -> Vec<NurbsSurface> {
+    let mut p = patches("hull3.igs");
+    p[1].refine_v(&[0.13, 0.41, 0.77]).unwrap();
+    p
+}
+
+#[test]
+fn moving_control_points_alone_opens_the_seams() {
+    let ffd = bulge();
+    let moved: Vec<NurbsSurface> = mismatched_hull().iter().map(|s| deformed(s, &ffd)).collect();
+    let r = seams(&moved);
+    println!("{}", r.table());
+    assert!(r.max_gap_closest > 1e-4, "expected an opened seam, got {}", r.max_gap_closest);
+    assert!(r.max_g1_angle_deg > 0.01, "expected a normal jump, got {}", r.max_g1_angle_deg);
+}
+
+#[test]
+fn refinement_keeps_seams_closed_with_fewer_points_than_uniform() {
+    let ffd = bulge();
+    let length = 145.0;
+    let tol = 1e-7 * length;
+    let p = mismatched_hull();
+    let mut refined = p.clone();
+    let mut added = 0;
+    for s in &mut refined {
+        let r = refine_for(s, &ffd, &RefineOptions::new(tol / 2.0));
+        println!("{r:?}");
+        assert!(r.converged, "{r:?}");
+        added += r.control_points_after - r.control_points_before;
+    }
+    let moved: Vec<NurbsSurface> = refined.iter().map(|s| deformed(s, &ffd)).collect();
+    let r = seams(&moved);
+    println!("refined (+{added} control points):\n{}", r.table());
+    assert!(r.max_gap_closest <= tol, "gap {} > {tol}", r.max_gap_closest);
+    assert!(r.max_g1_angle_deg <= 0.01, "G1 {}", r.max_g1_angle_deg);
+    // The PyGeM-style baseline: 30 knots per direction on every patch.
+    let mut uniform_added = 0;
+    let mut uniform = p.clone();
+    for s in &mut uniform {
+        let before = s.control_points().len();
+        refine_uniform(s, 30);
+        uniform_added += s.control_points().len() - before;
+    }
+    let moved: Vec<NurbsSurface> = uniform.iter().map(|s| deformed(s, &ffd)).collect();
+    let ru = seams(&moved);
+    println!("uniform 30 knots (+{uniform_added} control points):\n{}", ru.table());
+    assert!(ru.max_gap_closest > tol, "the baseline should not reach the tolerance: {}", ru.max_gap_closest);
+}
+
+#[test]
+fn zero_morph_needs_no_refinement() {
+    let ffd =
+        Ffd::try_new([3, 3, 3], Point3::new(-1.0, -12.0, -2.0), Vector3::new(150.0, 24.0, 17.0), Vector3::zeros())
+            .unwrap();
+    let mut s = patches("hull3.igs").remove(1);
+    let before = s.clone();
+    let r = refine_for(&mut s, &ffd, &RefineOptions::new(1e-12));
+    assert!(r.converged && r.rounds == 0 && r.max_error < 1e-12, "{r:?}");
+    assert_eq!(s, before);
+    assert!(ffd.deformed(s.control_points()) == s.control_points());
+}
+
+#[test]
+fn repair_closes_the_defect_seam_exactly() {
+    let mut p = patches("hull3_defect.igs");
+    let refs: Vec<&NurbsSurface> = p.iter().collect();
+    let edges = shared_boundaries(&refs, 0.145, 64, 0.9);
+    let bad = *edges.iter().find(|e| e.a.patch == 1 && e.b.patch == 2).expect("mid/bow seam");
+    let (left, right) = p.split_at_mut(2);
+    let (a, b) = (&mut left[1], &mut right[0]);
+    let before_a = a.clone();
+    let rep = repair(a, b, &bad, true).unwrap();
+    assert!(rep.max_move > 0.01, "the 32.7 mm matched gap is split between the sides: {rep:?}");
+    let r = seams(&p);
+    println!("{}", r.table());
+    let length = 145.0;
+    let e = r.edges.iter().find(|e| e.a.patch == 1 && e.b.patch == 2).unwrap();
+    assert!(e.gap_matched.max <= 1e-12 * length, "matched gap {}", e.gap_matched.max);
+    assert!(e.gap_closest.max <= 1e-12 * length, "closest gap {}", e.gap_closest.max);
+    assert!(e.g1_angle_deg.max <= 1e-6, "G1 {}", e.g1_angle_deg.max);
+    // The far side of the repaired patch did not move.
+    let unchanged = r.edges.iter().find(|e| e.a.patch == 0).unwrap();
+    assert!(unchanged.gap_closest.max < 1e-12 * length);
+    use cadmorph_nurbs::Surface;
+    assert!((p[1].eval(0.0, 0.5) - before_a.eval(0.0, 0.5)).norm() < 1e-12);
+}
