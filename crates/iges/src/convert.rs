@@ -569,12 +569,14 @@ impl Document {
         for e in &self.entities {
             // A face whose record does not read is listed with itself as surface, so that
             // converting it reports the error.
-            let surface = match (e.entity_type(), self.view(e.id())) {
-                (144, Ok(View::TrimmedSurface(t))) => Some((t.surface, !t.outer_is_domain || !t.inner.is_empty())),
-                (143, Ok(View::BoundedSurface(b))) => Some((b.surface, true)),
-                (510, Ok(View::Face(f))) => Some((f.surface, true)),
-                (144 | 143 | 510, _) => Some((e.id(), true)),
-                _ => None,
+            if !matches!(e.entity_type(), 143 | 144 | 510) {
+                continue;
+            }
+            let surface = match self.view(e.id()) {
+                Ok(View::TrimmedSurface(t)) => Some((t.surface, !t.outer_is_domain || !t.inner.is_empty())),
+                Ok(View::BoundedSurface(b)) => Some((b.surface, true)),
+                Ok(View::Face(f)) => Some((f.surface, true)),
+                _ => Some((e.id(), true)),
             };
             if let Some((s, trimmed)) = surface {
                 used[s.index()] = true;

@@ -411,8 +411,9 @@ impl BSplineCurve {
         c.need("knots", n_knots, 1)?;
         let knots = c.reals("knot", n_knots)?;
         let w = c.reals("weight", n)?;
-        c.need("control points", n, 3)?;
-        let points = (0..n).map(|_| c.point("control point")).collect::<Result<Vec<_>>>()?;
+        let mut xyz = Vec::new();
+        c.reals_into("control point", 3 * n, &mut xyz)?;
+        let points: Vec<Point3<f64>> = xyz.chunks_exact(3).map(|p| Point3::new(p[0], p[1], p[2])).collect();
         let range = [c.real_or("V0", knots[degree.min(n_knots - 1)])?, c.real_or("V1", knots[n.min(n_knots - 1)])?];
         let normal = if c.remaining() >= 3 { Some(c.vector("normal")?) } else { None };
         let polynomial = props[2] == 1 || w.iter().all(|&x| x == w[0]);
@@ -484,11 +485,10 @@ impl BSplineSurface {
         c.need("weights and control points", n, 4)?;
         let u_knots = c.reals("u knot", nuk)?;
         let v_knots = c.reals("v knot", nvk)?;
-        let wf = c.reals("weight", n)?;
-        let mut pf = Vec::with_capacity(n);
-        for _ in 0..n {
-            pf.push(c.point("control point")?);
-        }
+        let mut wf = Vec::new();
+        c.reals_into("weight", n, &mut wf)?;
+        let mut xyz = Vec::new();
+        c.reals_into("control point", 3 * n, &mut xyz)?;
         let range = [
             c.real_or("U0", u_knots[u_degree])?,
             c.real_or("U1", u_knots[n_u])?,
@@ -500,8 +500,9 @@ impl BSplineSurface {
         let mut w = Vec::with_capacity(n);
         for i in 0..n_u {
             for j in 0..n_v {
-                points.push(pf[j * n_u + i]);
-                w.push(wf[j * n_u + i]);
+                let f = j * n_u + i;
+                points.push(Point3::new(xyz[3 * f], xyz[3 * f + 1], xyz[3 * f + 2]));
+                w.push(wf[f]);
             }
         }
         let polynomial = props[2] == 1 || w.iter().all(|&x| x == w[0]);

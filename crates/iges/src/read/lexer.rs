@@ -52,8 +52,112 @@ fn number(i: &[u8]) -> IResult<&[u8], (usize, bool, bool)> {
     Ok((i, (digits, frac.is_some(), exp.is_some())))
 }
 
+/// Exact powers of ten up to 10²² (all representable in an f64).
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20,
+    1e21, 1e22,
+];
+
+/// The common case in one pass: at most 15 significant digits and a decimal exponent of
+/// at most 22, where `m · 10^e` or `m / 10^e` with `m` and `10^e` exact in an f64 is the
+/// correctly rounded value (Clinger's fast path), so the result equals `str::parse`'s.
+/// `None` sends the token to the full grammar and parser.
+#[inline]
+fn fast_number(s: &[u8]) -> Option<Raw> {
+    let mut i = 0;
+    let neg = match s.first() {
+        Some(b'-') => {
+            i = 1;
+            true
+        }
+        Some(b'+') => {
+            i = 1;
+            false
+        }
+        _ => false,
+    };
+    let mut m: u64 = 0;
+    let mut digits = 0usize;
+    let mut significant = 0usize;
+    let mut scale: i32 = 0;
+    while i < s.len() && s[i].is_ascii_digit() {
+        m = m * 10 + u64::from(s[i] - b'0');
+        if m != 0 {
+            significant += 1;
+        }
+        digits += 1;
+        i += 1;
+        if digits > 18 {
+            return None;
+        }
+    }
+    if i == s.len() {
+        if digits == 0 {
+            return None;
+        }
+        let v = m as i64;
+        return Some(Raw::Integer(if neg { -v } else { v }));
+    }
+    if s[i] == b'.' {
+        i += 1;
+        while i < s.len() && s[i].is_ascii_digit() {
+            m = m * 10 + u64::from(s[i] - b'0');
+            if m != 0 {
+                significant += 1;
+            }
+            digits += 1;
+            scale -= 1;
+            i += 1;
+            if digits > 18 {
+                return None;
+            }
+        }
+    }
+    if digits == 0 || significant > 15 {
+        return None;
+    }
+    if i < s.len() {
+        if !matches!(s[i], b'E' | b'e' | b'D' | b'd') {
+            return None;
+        }
+        i += 1;
+        let eneg = match s.get(i) {
+            Some(b'-') => {
+                i += 1;
+                true
+            }
+            Some(b'+') => {
+                i += 1;
+                false
+            }
+            _ => false,
+        };
+        let start = i;
+        let mut e: i32 = 0;
+        while i < s.len() && s[i].is_ascii_digit() && i - start < 4 {
+            e = e * 10 + i32::from(s[i] - b'0');
+            i += 1;
+        }
+        if i == start || i != s.len() {
+            return None;
+        }
+        scale += if eneg { -e } else { e };
+    }
+    let x = m as f64;
+    let v = match scale {
+        0 => x,
+        1..=22 => x * POW10[scale as usize],
+        -22..=-1 => x / POW10[(-scale) as usize],
+        _ => return None,
+    };
+    Some(Raw::Real(if neg { -v } else { v }))
+}
+
 /// Parses one number token (no blanks inside).
 pub(crate) fn parse_number(s: &[u8]) -> Option<Raw> {
+    if let Some(r) = fast_number(s) {
+        return Some(r);
+    }
     let (rest, (digits, dot, exp)) = number(s).ok()?;
     if !rest.is_empty() || digits == 0 {
         return None;
@@ -89,11 +193,164 @@ pub(crate) fn hollerith_at(text: &[u8], pos: usize) -> Option<(usize, usize)> {
     (k > pos && k < text.len() && (text[k] == b'H' || text[k] == b'h')).then_some((n, k + 1))
 }
 
+/// What a one-pass scan found at the start of a parameter.
+enum Scan {
+    /// A number ending at the offset.
+    Value(Raw, usize),
+    /// A Hollerith string: declared length and offset of its first character.
+    Hollerith(usize, usize),
+    /// Anything else: the full grammar decides.
+    Slow,
+}
+
+/// Whether the 8 bytes of `v` (little-endian) are all ASCII digits.
+#[inline]
+fn eight_digits(v: u64) -> bool {
+    (v & 0xF0F0_F0F0_F0F0_F0F0) | (((v.wrapping_add(0x0606_0606_0606_0606)) & 0xF0F0_F0F0_F0F0_F0F0) >> 4)
+        == 0x3333_3333_3333_3333
+}
+
+/// The value of 8 ASCII digits read little-endian (SWAR: pairs, then quads, then all).
+#[inline]
+fn eight_digit_value(v: u64) -> u64 {
+    let v = (v & 0x0F0F_0F0F_0F0F_0F0F).wrapping_mul(2561) >> 8;
+    let v = (v & 0x00FF_00FF_00FF_00FF).wrapping_mul(6_553_601) >> 16;
+    (v & 0x0000_FFFF_0000_FFFF).wrapping_mul(42_949_672_960_001) >> 32
+}
+
+/// Accumulates the digits from `i` into `m`, 8 at a time where it can; returns the end.
+/// `count` becomes `usize::MAX` past 19 digits (where `m` could overflow).
+#[inline]
+fn digits(text: &[u8], mut i: usize, m: &mut u64, count: &mut usize) -> usize {
+    while let Some(chunk) = text.get(i..i + 8) {
+        let v = u64::from_le_bytes([chunk[0], chunk[1], chunk[2], chunk[3], chunk[4], chunk[5], chunk[6], chunk[7]]);
+        if !eight_digits(v) {
+            break;
+        }
+        if *count + 8 > 19 {
+            *count = usize::MAX;
+            return i;
+        }
+        *m = *m * 100_000_000 + eight_digit_value(v);
+        *count += 8;
+        i += 8;
+    }
+    while i < text.len() && text[i].is_ascii_digit() {
+        if *count >= 19 {
+            *count = usize::MAX;
+            return i;
+        }
+        *m = *m * 10 + u64::from(text[i] - b'0');
+        *count += 1;
+        i += 1;
+    }
+    i
+}
+
+/// One pass over a parameter: an integer, a real whose digits make an integer of at most
+/// 2⁵³ with a decimal exponent within ±22 (Clinger's fast path: `m · 10^e` or `m / 10^e`
+/// with both exact is the correctly rounded value, so the result equals `str::parse`'s),
+/// or the count of a Hollerith string.
+#[inline]
+fn scan(text: &[u8], start: usize) -> Scan {
+    let len = text.len();
+    let mut i = start;
+    let neg = match text.get(i) {
+        Some(b'-') => {
+            i += 1;
+            true
+        }
+        Some(b'+') => {
+            i += 1;
+            false
+        }
+        _ => false,
+    };
+    let signed = i > start;
+    let mut m: u64 = 0;
+    let mut count = 0usize;
+    i = digits(text, i, &mut m, &mut count);
+    if count == usize::MAX {
+        return Scan::Slow;
+    }
+    let integer_end = i;
+    let int_digits = count;
+    if i < len && (text[i] == b'H' || text[i] == b'h') {
+        if count > 0 && !signed {
+            return Scan::Hollerith(m as usize, i + 1);
+        }
+        return Scan::Slow;
+    }
+    let mut real = false;
+    let mut scale: i32 = 0;
+    if i < len && text[i] == b'.' {
+        real = true;
+        i = digits(text, i + 1, &mut m, &mut count);
+        if count == usize::MAX {
+            return Scan::Slow;
+        }
+        scale = -((count - int_digits) as i32);
+    }
+    if count == 0 {
+        return Scan::Slow;
+    }
+    if i < len && matches!(text[i], b'E' | b'e' | b'D' | b'd') {
+        real = true;
+        i += 1;
+        let eneg = match text.get(i) {
+            Some(b'-') => {
+                i += 1;
+                true
+            }
+            Some(b'+') => {
+                i += 1;
+                false
+            }
+            _ => false,
+        };
+        let e0 = i;
+        let mut e: i32 = 0;
+        while i < len && text[i].is_ascii_digit() && i - e0 < 4 {
+            e = e * 10 + i32::from(text[i] - b'0');
+            i += 1;
+        }
+        if i == e0 {
+            return Scan::Slow;
+        }
+        scale += if eneg { -e } else { e };
+    }
+    if !real {
+        if count > 18 {
+            return Scan::Slow;
+        }
+        let v = m as i64;
+        return Scan::Value(Raw::Integer(if neg { -v } else { v }), integer_end);
+    }
+    if m > (1u64 << 53) {
+        return Scan::Slow;
+    }
+    let x = m as f64;
+    let v = match scale {
+        0 => x,
+        1..=22 => x * POW10[scale as usize],
+        -22..=-1 => x / POW10[(-scale) as usize],
+        _ => return Scan::Slow,
+    };
+    Scan::Value(Raw::Real(if neg { -v } else { v }), i)
+}
+
+/// Whether `c` can be part of a number or Hollerith count (then it cannot be a delimiter
+/// for the one-pass scan).
+fn numeric(c: u8) -> bool {
+    matches!(c, b'0'..=b'9' | b'+' | b'-' | b'.' | b'E' | b'e' | b'D' | b'd' | b'H' | b'h')
+}
+
 /// Splits `text[pos..]` into parameters up to the record delimiter `rd`.
 ///
 /// Returns the tokens and the offset just after the record delimiter.
 pub(crate) fn tokenize(text: &[u8], mut pos: usize, pd: u8, rd: u8, out: &mut Vec<Token>) -> Result<usize, LexError> {
     let len = text.len();
+    let fast = !numeric(pd) && !numeric(rd) && !is_blank(pd) && !is_blank(rd);
     loop {
         while pos < len && is_blank(text[pos]) && text[pos] != pd && text[pos] != rd {
             pos += 1;
@@ -112,18 +369,36 @@ pub(crate) fn tokenize(text: &[u8], mut pos: usize, pd: u8, rd: u8, out: &mut Ve
             return Ok(pos + 1);
         }
         let start = pos;
-        let raw = if let Some((n, first)) = hollerith_at(text, pos) {
-            if n > len - first {
-                return Err(LexError::Hollerith { offset: start, length: n });
+        let scanned = if fast { scan(text, pos) } else { Scan::Slow };
+        let raw = match scanned {
+            Scan::Value(raw, end) if end < len && (text[end] == pd || text[end] == rd || is_blank(text[end])) => {
+                pos = end;
+                raw
             }
-            pos = first + n;
-            Raw::Text { start: first as u32, len: n as u32 }
-        } else {
-            while pos < len && text[pos] != pd && text[pos] != rd && !is_blank(text[pos]) {
-                pos += 1;
+            Scan::Hollerith(n, first) => {
+                if n > len - first {
+                    return Err(LexError::Hollerith { offset: start, length: n });
+                }
+                pos = first + n;
+                Raw::Text { start: first as u32, len: n as u32 }
             }
-            parse_number(&text[start..pos])
-                .ok_or_else(|| LexError::Number { offset: start, found: crate::error::snippet(&text[start..pos]) })?
+            _ => {
+                if let Some((n, first)) = hollerith_at(text, pos) {
+                    if n > len - first {
+                        return Err(LexError::Hollerith { offset: start, length: n });
+                    }
+                    pos = first + n;
+                    Raw::Text { start: first as u32, len: n as u32 }
+                } else {
+                    while pos < len && text[pos] != pd && text[pos] != rd && !is_blank(text[pos]) {
+                        pos += 1;
+                    }
+                    parse_number(&text[start..pos]).ok_or_else(|| LexError::Number {
+                        offset: start,
+                        found: crate::error::snippet(&text[start..pos]),
+                    })?
+                }
+            }
         };
         out.push(Token { offset: start as u32, raw });
         while pos < len && is_blank(text[pos]) && text[pos] != pd && text[pos] != rd {
@@ -153,6 +428,84 @@ mod tests {
         let mut out = Vec::new();
         tokenize(s.as_bytes(), 0, b',', b';', &mut out).unwrap();
         out.into_iter().map(|t| t.raw).collect()
+    }
+
+    #[test]
+    fn fast_path_agrees_with_the_full_parser() {
+        let cases = [
+            "0.",
+            "-0.",
+            "1.",
+            ".5",
+            "0.1",
+            "-12.75",
+            "1E-07",
+            "1.5D3",
+            "0.333333333",
+            "9.009009009E-02",
+            "123456789012345.",
+            "1.234567890123456",
+            "6.283185307",
+            "-1.1626228E-16",
+            "4.440892099E-15",
+            "1e22",
+            "1e23",
+            "17.",
+            "000.000100",
+            "+3.",
+            "1.D0",
+            "12345678901234567",
+        ];
+        for c in cases {
+            let full: f64 = c.replace(['D', 'd'], "E").parse().unwrap();
+            match parse_number(c.as_bytes()) {
+                Some(Raw::Real(x)) => assert_eq!(x.to_bits(), full.to_bits(), "{c}"),
+                Some(Raw::Integer(i)) => assert_eq!(i as f64, full, "{c}"),
+                other => panic!("{c}: {other:?}"),
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// Every shortest representation and every 9-digit rounding of a random f64 reads
+        /// back exactly as `str::parse` reads it.
+        #[test]
+        fn fast_path_is_exact(x in proptest::num::f64::NORMAL, digits in 1usize..17) {
+            for s in [format!("{x:?}"), format!("{x:.*e}", digits), format!("{:.*}", digits, x % 1e6)] {
+                let full: f64 = s.parse().unwrap();
+                let got = match parse_number(s.as_bytes()) {
+                    Some(Raw::Real(v)) => v,
+                    Some(Raw::Integer(i)) => i as f64,
+                    other => panic!("{s}: {other:?}"),
+                };
+                proptest::prop_assert_eq!(got.to_bits(), full.to_bits(), "{}", s);
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// The one-pass scan of a record gives what `str::parse` gives for each number.
+        #[test]
+        fn records_scan_exactly(xs in proptest::collection::vec(proptest::num::f64::NORMAL, 1..20), digits in 1usize..18) {
+            let texts: Vec<String> = xs.iter().enumerate().map(|(k, x)| match k % 3 {
+                0 => format!("{x:?}"),
+                1 => format!("{x:.*E}", digits),
+                _ => format!("{}", (x % 1e6).round() as i64),
+            }).collect();
+            let record = format!("128,{}  ;", texts.join(" ,"));
+            let mut out = Vec::new();
+            tokenize(record.as_bytes(), 0, b',', b';', &mut out).unwrap();
+            proptest::prop_assert_eq!(out.len(), texts.len() + 1);
+            for (t, s) in out[1..].iter().zip(&texts) {
+                let full: f64 = s.parse().unwrap();
+                let got = match t.raw {
+                    Raw::Real(v) => v,
+                    Raw::Integer(i) => i as f64,
+                    other => panic!("{s}: {other:?}"),
+                };
+                proptest::prop_assert_eq!(got.to_bits(), full.to_bits(), "{}", s);
+            }
+        }
     }
 
     #[test]

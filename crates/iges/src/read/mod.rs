@@ -20,8 +20,8 @@ fn pos(section: char, line: usize, column: usize, entity: Option<u32>) -> Positi
 /// line terminators at all.
 fn split_lines(src: &[u8]) -> Vec<Line> {
     let mut lines = Vec::with_capacity(src.len() / 81 + 1);
-    let has_eol = src.iter().any(|&b| b == b'\n' || b == b'\r');
-    if !has_eol && src.len() > 80 {
+    let has_cr = memchr::memchr(b'\r', src).is_some();
+    if !has_cr && memchr::memchr(b'\n', src).is_none() && src.len() > 80 {
         let mut s = 0;
         while s < src.len() {
             let e = (s + 80).min(src.len());
@@ -31,21 +31,29 @@ fn split_lines(src: &[u8]) -> Vec<Line> {
         return lines;
     }
     let mut s = 0;
-    let mut i = 0;
-    while i < src.len() {
-        match src[i] {
-            b'\n' => {
-                let end = if i > s && src[i - 1] == b'\r' { i - 1 } else { i };
-                lines.push(Line { start: s, end, next: i + 1 });
-                s = i + 1;
-            }
-            b'\r' if src.get(i + 1) != Some(&b'\n') => {
-                lines.push(Line { start: s, end: i, next: i + 1 });
-                s = i + 1;
-            }
-            _ => {}
+    if !has_cr {
+        // LF only: the common case, found with memchr.
+        for i in memchr::memchr_iter(b'\n', src) {
+            lines.push(Line { start: s, end: i, next: i + 1 });
+            s = i + 1;
         }
-        i += 1;
+    } else {
+        let mut i = 0;
+        while i < src.len() {
+            match src[i] {
+                b'\n' => {
+                    let end = if i > s && src[i - 1] == b'\r' { i - 1 } else { i };
+                    lines.push(Line { start: s, end, next: i + 1 });
+                    s = i + 1;
+                }
+                b'\r' if src.get(i + 1) != Some(&b'\n') => {
+                    lines.push(Line { start: s, end: i, next: i + 1 });
+                    s = i + 1;
+                }
+                _ => {}
+            }
+            i += 1;
+        }
     }
     if s < src.len() {
         lines.push(Line { start: s, end: src.len(), next: src.len() });
@@ -357,7 +365,7 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Document> {
         }
         let p_line = p0 + p_first + 1;
         let map = |off: usize| pos('P', p_line + off / P_WIDTH, off % P_WIDTH + 1, Some(id.0));
-        let mut tokens = Vec::new();
+        let mut tokens = Vec::with_capacity(text.len() / 3 + 1);
         tokenize(&text, 0, pd, rd, &mut tokens).map_err(|e| lex_position(&e, &map))?;
         if tokens.first().map(|t| t.raw) != Some(Raw::Integer(i64::from(dir.entity_type))) {
             return Err(Error::Mismatch {

@@ -120,6 +120,26 @@ impl DocumentBuilder {
         self.push(form, status, values)
     }
 
+    /// Sets the status flags of an entity added before (e.g. physically dependent for a
+    /// surface under a 144).
+    ///
+    /// # Panics
+    ///
+    /// If `id` was not returned by this builder.
+    pub fn set_status(&mut self, id: EntityId, status: Status) {
+        self.entities[id.index()].status = status;
+    }
+
+    /// The number of entities added.
+    pub fn len(&self) -> usize {
+        self.entities.len()
+    }
+
+    /// Whether no entity was added.
+    pub fn is_empty(&self) -> bool {
+        self.entities.is_empty()
+    }
+
     fn push(&mut self, form: i64, status: Status, values: Vec<Value>) -> EntityId {
         self.entities.push(NewEntity { form, status, values });
         EntityId::from_index(self.entities.len() - 1)
