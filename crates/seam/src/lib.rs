@@ -29,9 +29,11 @@ mod error;
 mod measure;
 mod refine;
 mod repair;
+mod seams_refine;
 
 pub use adjacency::{shared_boundaries, SharedBoundary, SideRef};
 pub use error::{Error, Result};
 pub use measure::{measure_boundary, EdgeReport, Face, SeamReport, Stat};
-pub use refine::{deformed, morph_error, refine_for, refine_uniform, RefineOptions, Refinement};
-pub use repair::{repair, Repair};
+pub use refine::{deformed, morph_error, refine_for, refine_uniform, RefineOptions, Refinement, Scope};
+pub use repair::{make_compatible, repair, Repair};
+pub use seams_refine::{refine_seams, SeamRefineOptions, SeamRefinement};

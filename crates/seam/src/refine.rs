@@ -9,15 +9,32 @@
 //! was closed stays closed within `2·tol`.
 
 use cadmorph_morph::Deformation;
-use cadmorph_nurbs::math::Point3;
-use cadmorph_nurbs::{NurbsSurface, Surface};
+use cadmorph_nurbs::math::{Matrix3, Point3, Vector3};
+use cadmorph_nurbs::{NurbsSurface, Side, Surface};
 use serde::Serialize;
+
+/// Where [`refine_for`] asks `S'` to follow `M ∘ S`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scope {
+    /// On the four boundaries, in position and in normal direction: what keeps seams
+    /// closed (C0) and smooth (G1) at the least cost, since knots near an edge fix it
+    /// without refining the interior.
+    Boundaries,
+    /// Everywhere on the patch, in position: the whole surface follows the morph.
+    Everywhere,
+}
 
 /// Settings of [`refine_for`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RefineOptions {
     /// Largest allowed `|M(S(u, v)) − S'(u, v)|`, model units.
     pub tol: f64,
+    /// Largest allowed angle, degrees, between the normal of `S'` and the normal of
+    /// `M ∘ S` on the boundaries (with [`Scope::Boundaries`]); seams stay G1 within
+    /// twice this.
+    pub angle_tol_deg: f64,
+    /// Where the tolerances apply.
+    pub scope: Scope,
     /// Bisection rounds at most.
     pub max_rounds: usize,
     /// Stop before a patch would exceed this many control points.
@@ -27,9 +44,17 @@ pub struct RefineOptions {
 }
 
 impl RefineOptions {
-    /// Defaults for a tolerance: 24 rounds, 250 000 control points, 5 samples per span.
+    /// Defaults for a tolerance: boundaries only, normals within 0.005° (seams G1
+    /// within 0.01°), 24 rounds, 250 000 control points, 5 samples per span.
     pub fn new(tol: f64) -> Self {
-        Self { tol, max_rounds: 24, max_control_points: 250_000, samples_per_span: 5 }
+        Self {
+            tol,
+            angle_tol_deg: 0.005,
+            scope: Scope::Boundaries,
+            max_rounds: 24,
+            max_control_points: 250_000,
+            samples_per_span: 5,
+        }
     }
 }
 
@@ -44,8 +69,12 @@ pub struct Refinement {
     pub u_knots_added: usize,
     /// Knots inserted in v.
     pub v_knots_added: usize,
-    /// Largest sampled `|M(S) − S'|` after refinement.
+    /// Largest sampled `|M(S) − S'|` after refinement (on the boundaries with
+    /// [`Scope::Boundaries`]).
     pub max_error: f64,
+    /// Largest sampled normal angle between `S'` and `M ∘ S` on the boundaries, degrees
+    /// (0 with [`Scope::Everywhere`], which does not measure it).
+    pub max_angle_deg: f64,
     /// Bisection rounds run.
     pub rounds: usize,
     /// Whether `max_error ≤ tol` was reached.
@@ -139,50 +168,27 @@ pub fn refine_for<D: Deformation + ?Sized>(s: &mut NurbsSurface, d: &D, opts: &R
     let mut rounds = 0;
     loop {
         let moved = deformed(s, d);
-        let errors = cell_errors(s, &moved, d, opts.samples_per_span);
-        let max_error = errors.iter().flatten().copied().fold(0.0, f64::max);
-        let done = max_error <= opts.tol;
-        if done || rounds >= opts.max_rounds {
-            return Refinement {
-                control_points_before: before,
-                control_points_after: s.control_points().len(),
-                u_knots_added: added_u,
-                v_knots_added: added_v,
-                max_error,
-                rounds,
-                converged: done,
-            };
-        }
         let (ub, vb) = breaks(s);
         let mut split_u = vec![false; ub.len() - 1];
         let mut split_v = vec![false; vb.len() - 1];
-        for (i, row) in errors.iter().enumerate() {
-            for (j, &e) in row.iter().enumerate() {
-                if e <= opts.tol {
-                    continue;
-                }
-                let (du, dv) = bending_mismatch(s, &moved, d, (ub[i], ub[i + 1]), (vb[j], vb[j + 1]));
-                let worst = du.max(dv);
-                if du >= 0.5 * worst || !worst.is_finite() {
-                    split_u[i] = true;
-                }
-                if dv >= 0.5 * worst || !worst.is_finite() {
-                    split_v[j] = true;
-                }
-            }
-        }
+        let (max_error, max_angle_deg) = match opts.scope {
+            Scope::Everywhere => (mark_everywhere(s, &moved, d, opts, (&ub, &vb), (&mut split_u, &mut split_v)), 0.0),
+            Scope::Boundaries => mark_boundaries(s, &moved, d, opts, (&ub, &vb), (&mut split_u, &mut split_v)),
+        };
+        let done = max_error <= opts.tol && max_angle_deg <= opts.angle_tol_deg;
         let xu: Vec<f64> = (0..split_u.len()).filter(|&i| split_u[i]).map(|i| (ub[i] + ub[i + 1]) / 2.0).collect();
         let xv: Vec<f64> = (0..split_v.len()).filter(|&j| split_v[j]).map(|j| (vb[j] + vb[j + 1]) / 2.0).collect();
         let grown = (s.n_u() + xu.len()) * (s.n_v() + xv.len());
-        if grown > opts.max_control_points || (xu.is_empty() && xv.is_empty()) {
+        if done || rounds >= opts.max_rounds || grown > opts.max_control_points || (xu.is_empty() && xv.is_empty()) {
             return Refinement {
                 control_points_before: before,
                 control_points_after: s.control_points().len(),
                 u_knots_added: added_u,
                 v_knots_added: added_v,
                 max_error,
+                max_angle_deg,
                 rounds,
-                converged: false,
+                converged: done,
             };
         }
         s.refine_u(&xu).expect("midpoints of non-empty spans are new interior knots");
@@ -191,6 +197,126 @@ pub fn refine_for<D: Deformation + ?Sized>(s: &mut NurbsSurface, d: &D, opts: &R
         added_v += xv.len();
         rounds += 1;
     }
+}
+
+/// Marks `i` and its neighbours within the cubic support (one span each side).
+fn mark(split: &mut [bool], i: usize) {
+    for k in i.saturating_sub(1)..=(i + 1).min(split.len() - 1) {
+        split[k] = true;
+    }
+}
+
+type Marks<'a> = (&'a mut [bool], &'a mut [bool]);
+
+/// [`Scope::Everywhere`]: bisects cells whose error exceeds `tol`, in the direction(s)
+/// of [`bending_mismatch`], with their neighbours (a cell's control points belong to
+/// the neighbouring spans too, so splitting it alone converges only linearly).
+fn mark_everywhere<D: Deformation + ?Sized>(
+    s: &NurbsSurface,
+    moved: &NurbsSurface,
+    d: &D,
+    opts: &RefineOptions,
+    (ub, vb): (&[f64], &[f64]),
+    (split_u, split_v): Marks,
+) -> f64 {
+    let errors = cell_errors(s, moved, d, opts.samples_per_span);
+    let max_error = errors.iter().flatten().copied().fold(0.0, f64::max);
+    for (i, row) in errors.iter().enumerate() {
+        for (j, &e) in row.iter().enumerate() {
+            if e <= opts.tol {
+                continue;
+            }
+            let (du, dv) = bending_mismatch(s, moved, d, (ub[i], ub[i + 1]), (vb[j], vb[j + 1]));
+            let worst = du.max(dv);
+            if du >= 0.5 * worst || !worst.is_finite() {
+                mark(split_u, i);
+            }
+            if dv >= 0.5 * worst || !worst.is_finite() {
+                mark(split_v, j);
+            }
+        }
+    }
+    max_error
+}
+
+/// The unit normal where it is well conditioned (the partials at least 1e-3 rad from
+/// parallel); near collapsed edges and tangent partials its direction is noise.
+pub(crate) fn well_defined_normal(s: &NurbsSurface, u: f64, v: f64) -> Option<Vector3<f64>> {
+    let e = s.eval_d1(u, v);
+    let n = e.du.cross(&e.dv);
+    let sine = n.norm() / (e.du.norm() * e.dv.norm());
+    (sine > 1e-3).then(|| n.normalize())
+}
+
+/// The normal of `M ∘ S` at `(u, v)`: `(J S_u) × (J S_v)` with `J = ∂M/∂x` at `S(u, v)`
+/// (central differences where the deformation has no closed-form Jacobian).
+fn exact_normal<D: Deformation + ?Sized>(s: &NurbsSurface, d: &D, u: f64, v: f64, h: f64) -> Option<Vector3<f64>> {
+    let e = s.eval_d1(u, v);
+    let j = d.jacobian(&e.point).unwrap_or_else(|| {
+        let mut j = Matrix3::zeros();
+        for k in 0..3 {
+            let mut dx = Vector3::zeros();
+            dx[k] = h;
+            let col = (d.deform_point(&(e.point + dx)) - d.deform_point(&(e.point - dx))) / (2.0 * h);
+            j.set_column(k, &col);
+        }
+        j
+    });
+    let n = (j * e.du).cross(&(j * e.dv));
+    let len = n.norm();
+    (len > 0.0 && len.is_finite()).then(|| n / len)
+}
+
+/// [`Scope::Boundaries`]: along each side, a span whose boundary points miss `M ∘ S` by
+/// more than `tol` is bisected along the edge (the boundary curve of `S'` depends only
+/// on the boundary row and the knots along the edge); where the normals differ by more
+/// than `angle_tol_deg`, the span next to the edge across it is bisected, which halves
+/// the leg from the boundary row to the next row and with it the normal error.
+/// Returns the largest position error and normal angle found.
+fn mark_boundaries<D: Deformation + ?Sized>(
+    s: &NurbsSurface,
+    moved: &NurbsSurface,
+    d: &D,
+    opts: &RefineOptions,
+    (ub, vb): (&[f64], &[f64]),
+    (split_u, split_v): Marks,
+) -> (f64, f64) {
+    let k = opts.samples_per_span.max(2);
+    let h = 1e-7 * s.bounding_box().diagonal().max(f64::MIN_POSITIVE);
+    let (mut max_error, mut max_angle): (f64, f64) = (0.0, 0.0);
+    for side in Side::ALL {
+        // Spans along the edge, and the fixed parameter with the cross span next to it.
+        let (along, fixed, cross_span, along_is_u) = match side {
+            Side::UMin => (vb, ub[0], 0, false),
+            Side::UMax => (vb, ub[ub.len() - 1], ub.len() - 2, false),
+            Side::VMin => (ub, vb[0], 0, true),
+            Side::VMax => (ub, vb[vb.len() - 1], vb.len() - 2, true),
+        };
+        for (i, w) in along.windows(2).enumerate() {
+            let (mut pos, mut ang): (f64, f64) = (0.0, 0.0);
+            for n in 0..k {
+                let t = w[0] + (w[1] - w[0]) * n as f64 / (k - 1) as f64;
+                let (u, v) = if along_is_u { (t, fixed) } else { (fixed, t) };
+                let exact: Point3<f64> = d.deform_point(&s.eval(u, v));
+                let e = (exact - moved.eval(u, v)).norm();
+                pos = if e.is_nan() { f64::INFINITY } else { pos.max(e) };
+                if let (Some(a), Some(b)) = (well_defined_normal(moved, u, v), exact_normal(s, d, u, v, h)) {
+                    ang = ang.max(a.cross(&b).norm().atan2(a.dot(&b)).to_degrees());
+                }
+            }
+            max_error = max_error.max(pos);
+            max_angle = max_angle.max(ang);
+            let (split_along, split_cross) =
+                if along_is_u { (&mut *split_u, &mut *split_v) } else { (&mut *split_v, &mut *split_u) };
+            if pos > opts.tol {
+                mark(split_along, i);
+            }
+            if ang > opts.angle_tol_deg {
+                split_cross[cross_span] = true;
+            }
+        }
+    }
+    (max_error, max_angle)
 }
 
 /// The PyGeM-style baseline: `n` knots per direction, evenly spaced over the domain

@@ -62,6 +62,94 @@ fn insert_missing(s: &mut NurbsSurface, other: &[(f64, usize)], ptol: f64) -> Re
     Ok(())
 }
 
+/// Two patches in the common frame of [`frame`], with compatible knots along the edge.
+struct Framed {
+    a: NurbsSurface,
+    b: NurbsSurface,
+    undo_a: (bool, bool),
+    undo_b: (bool, bool),
+    v_reversed: bool,
+}
+
+fn covers_side(s: &NurbsSurface, side: Side, r: (f64, f64)) -> bool {
+    let (ud, vd) = s.domain();
+    let d = if matches!(side, Side::UMin | Side::UMax) { vd } else { ud };
+    let len = d.end() - d.start();
+    let (lo, hi) = (r.0.min(r.1), r.0.max(r.1));
+    (lo - d.start()).abs() <= 1e-9 * len && (hi - d.end()).abs() <= 1e-9 * len
+}
+
+/// Frames both patches ([`frame`]), raises them to the same degree along the edge and
+/// inserts into each the (normalised) knots along the edge that only the other has, so
+/// their boundary rows correspond one to one.
+fn compatible_frames(a: &NurbsSurface, b: &NurbsSurface, edge: &SharedBoundary) -> Result<Framed> {
+    if !covers_side(a, edge.a.side, edge.a_range) || !covers_side(b, edge.b.side, edge.b_range) {
+        return Err(Error::PartialEdge { a: edge.a.patch, b: edge.b.patch });
+    }
+    let (mut fa, ta, ra) = frame(&a.clamped(), edge.a.side, true);
+    let (mut fb, tb, rb) = frame(&b.clamped(), edge.b.side, false);
+    let v_reversed = edge.reversed();
+    if v_reversed {
+        fb = fb.v_reversed();
+    }
+    let q = fa.v_degree().max(fb.v_degree());
+    fa.elevate_v_degree(q - fa.v_degree())?;
+    fb.elevate_v_degree(q - fb.v_degree())?;
+    let ptol = 1e-10;
+    let (ka, ma) = normalised_knots(&fa);
+    let (kb, mb) = normalised_knots(&fb);
+    insert_missing(&mut fa, &kb.iter().copied().zip(mb).collect::<Vec<_>>(), ptol)?;
+    insert_missing(&mut fb, &ka.iter().copied().zip(ma).collect::<Vec<_>>(), ptol)?;
+    debug_assert_eq!(fa.n_v(), fb.n_v());
+    Ok(Framed { a: fa, b: fb, undo_a: (ta, ra), undo_b: (tb, rb), v_reversed })
+}
+
+/// Makes the knots along every edge of `edges` compatible on both sides (same degree,
+/// same normalised knots along the edge) by degree elevation and knot insertion, which
+/// change no geometry. Two compatible sides that met before a morph have the same
+/// boundary control row, so moving control points with any map keeps them met exactly.
+/// Insertions run across the whole patch and reach its other edges, so the edges are
+/// swept until nothing changes (at most `edges.len() + 1` sweeps). Edges that cover
+/// their sides only in part are skipped. Returns the control points added.
+///
+/// # Errors
+///
+/// Kernel errors from degree elevation (past the maximum degree).
+pub fn make_compatible(patches: &mut [NurbsSurface], edges: &[SharedBoundary]) -> Result<usize> {
+    let before: usize = patches.iter().map(|s| s.control_points().len()).sum();
+    for _ in 0..=edges.len() {
+        let mut changed = false;
+        for e in edges {
+            let (a, b) = (&patches[e.a.patch], &patches[e.b.patch]);
+            if e.a.patch == e.b.patch || !covers_side(a, e.a.side, e.a_range) || !covers_side(b, e.b.side, e.b_range) {
+                continue;
+            }
+            let f = compatible_frames(a, b, e)?;
+            let na = unframe(f.a, f.undo_a.0, f.undo_a.1, false);
+            let nb = unframe(f.b, f.undo_b.0, f.undo_b.1, f.v_reversed);
+            if na.control_points().len() != a.control_points().len()
+                || na.u_degree() != a.u_degree()
+                || na.v_degree() != a.v_degree()
+            {
+                patches[e.a.patch] = na;
+                changed = true;
+            }
+            let b = &patches[e.b.patch];
+            if nb.control_points().len() != b.control_points().len()
+                || nb.u_degree() != b.u_degree()
+                || nb.v_degree() != b.v_degree()
+            {
+                patches[e.b.patch] = nb;
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    Ok(patches.iter().map(|s| s.control_points().len()).sum::<usize>() - before)
+}
+
 /// What [`repair`] changed.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Repair {
@@ -88,34 +176,9 @@ pub struct Repair {
 ///
 /// [`Error::PartialEdge`] for a partial overlap, and kernel errors from degree elevation.
 pub fn repair(a: &mut NurbsSurface, b: &mut NurbsSurface, edge: &SharedBoundary, g1: bool) -> Result<Repair> {
-    let full = |s: &NurbsSurface, side: Side, r: (f64, f64)| {
-        let (ud, vd) = s.domain();
-        let d = if matches!(side, Side::UMin | Side::UMax) { vd } else { ud };
-        let len = d.end() - d.start();
-        let (lo, hi) = (r.0.min(r.1), r.0.max(r.1));
-        (lo - d.start()).abs() <= 1e-9 * len && (hi - d.end()).abs() <= 1e-9 * len
-    };
-    if !full(a, edge.a.side, edge.a_range) || !full(b, edge.b.side, edge.b_range) {
-        return Err(Error::PartialEdge { a: edge.a.patch, b: edge.b.patch });
-    }
     let (na0, nb0) = (a.control_points().len(), b.control_points().len());
-    let (mut fa, ta, ra) = frame(&a.clamped(), edge.a.side, true);
-    let (mut fb, tb, rb) = frame(&b.clamped(), edge.b.side, false);
-    let vb_rev = edge.reversed();
-    if vb_rev {
-        fb = fb.v_reversed();
-    }
-    // Same degree along the edge.
-    let q = fa.v_degree().max(fb.v_degree());
-    fa.elevate_v_degree(q - fa.v_degree())?;
-    fb.elevate_v_degree(q - fb.v_degree())?;
-    // Same normalised knots.
-    let ptol = 1e-10;
-    let (ka, ma) = normalised_knots(&fa);
-    let (kb, mb) = normalised_knots(&fb);
-    insert_missing(&mut fa, &kb.iter().copied().zip(mb).collect::<Vec<_>>(), ptol)?;
-    insert_missing(&mut fb, &ka.iter().copied().zip(ma).collect::<Vec<_>>(), ptol)?;
-    debug_assert_eq!(fa.n_v(), fb.n_v());
+    let Framed { a: fa, b: fb, undo_a: (ta, ra), undo_b: (tb, rb), v_reversed: vb_rev } =
+        compatible_frames(a, b, edge)?;
     // Average the boundary rows: A's last u row, B's first.
     let n_v = fa.n_v();
     let ia = fa.n_u() - 1;

@@ -1,0 +1,189 @@
+//! Refinement driven by the seams themselves: after moving the control points of every
+//! patch, the two sides of each shared edge must agree within a gap and an angle.
+
+use cadmorph_morph::Deformation;
+use cadmorph_nurbs::{NurbsSurface, Side, Surface};
+use serde::Serialize;
+
+use crate::measure::side_uv;
+use crate::refine::{deformed, well_defined_normal};
+use crate::SharedBoundary;
+
+/// Settings of [`refine_seams`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SeamRefineOptions {
+    /// Largest allowed distance between the two sides at the same edge parameter
+    /// after the morph, model units.
+    pub tol: f64,
+    /// Largest allowed angle between the two sides' normals after the morph, degrees.
+    pub angle_tol_deg: f64,
+    /// Rounds at most.
+    pub max_rounds: usize,
+    /// Stop before the patches would exceed this many control points in all.
+    pub max_control_points: usize,
+}
+
+impl SeamRefineOptions {
+    /// `tol` and `angle_tol_deg` with 30 rounds and 2 000 000 control points at most.
+    pub fn new(tol: f64, angle_tol_deg: f64) -> Self {
+        Self { tol, angle_tol_deg, max_rounds: 30, max_control_points: 2_000_000 }
+    }
+}
+
+/// What [`refine_seams`] did.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SeamRefinement {
+    /// Control points of all patches before.
+    pub control_points_before: usize,
+    /// Control points of all patches after.
+    pub control_points_after: usize,
+    /// Largest matched gap after the morph, over all edges.
+    pub max_gap: f64,
+    /// Largest normal angle after the morph, degrees (unoriented).
+    pub max_angle_deg: f64,
+    /// Rounds run.
+    pub rounds: usize,
+    /// Whether both tolerances were reached.
+    pub converged: bool,
+}
+
+fn spans(s: &NurbsSurface, along_u: bool) -> Vec<f64> {
+    let (ud, vd) = s.domain();
+    let (k, d) = if along_u { (s.u_knots(), ud) } else { (s.v_knots(), vd) };
+    k.distinct().0.into_iter().filter(|x| d.contains(x)).collect()
+}
+
+/// Index of the span of `breaks` holding `t`.
+fn span_of(breaks: &[f64], t: f64) -> usize {
+    breaks.partition_point(|&b| b <= t).saturating_sub(1).min(breaks.len() - 2)
+}
+
+/// Knots to insert per patch: `(u, v)` sets of span indices.
+struct Marks {
+    u: Vec<Vec<bool>>,
+    v: Vec<Vec<bool>>,
+}
+
+impl Marks {
+    fn along(&mut self, patch: usize, side: Side, span: usize) {
+        let m = if matches!(side, Side::UMin | Side::UMax) { &mut self.v[patch] } else { &mut self.u[patch] };
+        for k in span.saturating_sub(1)..=(span + 1).min(m.len() - 1) {
+            m[k] = true;
+        }
+    }
+    fn across(&mut self, patch: usize, side: Side) {
+        match side {
+            Side::UMin => self.u[patch][0] = true,
+            Side::UMax => *self.u[patch].last_mut().expect("a span") = true,
+            Side::VMin => self.v[patch][0] = true,
+            Side::VMax => *self.v[patch].last_mut().expect("a span") = true,
+        }
+    }
+}
+
+/// Inserts knots into `patches` (their geometry does not change) until, after moving
+/// every control point with `d`, the two sides of every edge in `edges` agree within
+/// `opts.tol` (matched gap) and `opts.angle_tol_deg` (normal angle).
+///
+/// Along each edge, samples whose gap is too large bisect the knot spans along the
+/// edge on both sides (with their neighbours: the boundary curve there depends on
+/// them); samples whose normals differ too much bisect the span next to the edge
+/// across it, on both sides: that shortens the leg from the boundary row to the next
+/// row, and the normal error of a morphed leg shrinks with its length (where the sides
+/// also show a gap, their rows differ and the spans along the edge are bisected too).
+/// Two sides that
+/// share their boundary row exactly (compatible knots, as when one surface was split)
+/// keep a zero gap under any morph, so only the second rule then adds knots: a few rows
+/// next to each seam, instead of refining whole patches.
+///
+/// # Tolerance
+///
+/// The angle falls by about half per round where it is too large (the leg halves); the
+/// gap, where the boundary rows differ, by about a quarter.
+pub fn refine_seams<D: Deformation + ?Sized>(
+    patches: &mut [NurbsSurface],
+    edges: &[SharedBoundary],
+    d: &D,
+    opts: &SeamRefineOptions,
+) -> SeamRefinement {
+    let count = |p: &[NurbsSurface]| p.iter().map(|s| s.control_points().len()).sum::<usize>();
+    let before = count(patches);
+    let mut rounds = 0;
+    loop {
+        let moved: Vec<NurbsSurface> = patches.iter().map(|s| deformed(s, d)).collect();
+        let ubreaks: Vec<Vec<f64>> = patches.iter().map(|s| spans(s, true)).collect();
+        let vbreaks: Vec<Vec<f64>> = patches.iter().map(|s| spans(s, false)).collect();
+        let mut marks = Marks {
+            u: ubreaks.iter().map(|b| vec![false; b.len() - 1]).collect(),
+            v: vbreaks.iter().map(|b| vec![false; b.len() - 1]).collect(),
+        };
+        let (mut max_gap, mut max_angle): (f64, f64) = (0.0, 0.0);
+        for e in edges {
+            let (a, b) = (e.a.patch, e.b.patch);
+            let along = |patch: usize, side: Side| {
+                if matches!(side, Side::UMin | Side::UMax) {
+                    &vbreaks[patch]
+                } else {
+                    &ubreaks[patch]
+                }
+            };
+            let n = 8 * (along(a, e.a.side).len() + along(b, e.b.side).len()) + 1;
+            for k in 0..n {
+                let ta = e.a_range.0 + (e.a_range.1 - e.a_range.0) * k as f64 / (n - 1) as f64;
+                let tb = e.b_param(ta);
+                let (ua, va) = side_uv(&patches[a], e.a.side, ta);
+                let (ub, vb) = side_uv(&patches[b], e.b.side, tb);
+                let gap = (moved[a].eval(ua, va) - moved[b].eval(ub, vb)).norm();
+                max_gap = max_gap.max(if gap.is_nan() { f64::INFINITY } else { gap });
+                if gap > opts.tol || gap.is_nan() {
+                    marks.along(a, e.a.side, span_of(along(a, e.a.side), ta));
+                    marks.along(b, e.b.side, span_of(along(b, e.b.side), tb));
+                }
+                if let (Some(na), Some(nb)) =
+                    (well_defined_normal(&moved[a], ua, va), well_defined_normal(&moved[b], ub, vb))
+                {
+                    let angle = na.cross(&nb).norm().atan2(na.dot(&nb)).to_degrees();
+                    let angle = angle.min(180.0 - angle);
+                    max_angle = max_angle.max(angle);
+                    if angle > opts.angle_tol_deg {
+                        marks.across(a, e.a.side);
+                        marks.across(b, e.b.side);
+                        // Sides whose boundary rows differ (a visible gap) also bend
+                        // differently along the edge; shorter legs alone cannot fix that.
+                        if gap > 1e-3 * opts.tol {
+                            marks.along(a, e.a.side, span_of(along(a, e.a.side), ta));
+                            marks.along(b, e.b.side, span_of(along(b, e.b.side), tb));
+                        }
+                    }
+                }
+            }
+        }
+        let done = max_gap <= opts.tol && max_angle <= opts.angle_tol_deg;
+        let inserts: Vec<(Vec<f64>, Vec<f64>)> = (0..patches.len())
+            .map(|i| {
+                let mid = |b: &[f64], m: &[bool]| -> Vec<f64> {
+                    (0..m.len()).filter(|&k| m[k]).map(|k| (b[k] + b[k + 1]) / 2.0).collect()
+                };
+                (mid(&ubreaks[i], &marks.u[i]), mid(&vbreaks[i], &marks.v[i]))
+            })
+            .collect();
+        let grown: usize =
+            patches.iter().zip(&inserts).map(|(s, (xu, xv))| (s.n_u() + xu.len()) * (s.n_v() + xv.len())).sum();
+        let nothing = inserts.iter().all(|(xu, xv)| xu.is_empty() && xv.is_empty());
+        if done || rounds >= opts.max_rounds || grown > opts.max_control_points || nothing {
+            return SeamRefinement {
+                control_points_before: before,
+                control_points_after: count(patches),
+                max_gap,
+                max_angle_deg: max_angle,
+                rounds,
+                converged: done,
+            };
+        }
+        for (s, (xu, xv)) in patches.iter_mut().zip(&inserts) {
+            s.refine_u(xu).expect("midpoints of non-empty spans are new interior knots");
+            s.refine_v(xv).expect("midpoints of non-empty spans are new interior knots");
+        }
+        rounds += 1;
+    }
+}
