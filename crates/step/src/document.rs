@@ -91,6 +91,8 @@ pub struct Document {
     pub(crate) insert_at: usize,
     /// The highest id in use.
     pub(crate) max_id: u64,
+    /// The model units, once computed (cleared by edits).
+    pub(crate) units_cache: std::sync::OnceLock<crate::views::Units>,
 }
 
 /// A read-only handle on one instance.

@@ -15,12 +15,23 @@ use crate::EntityId;
 
 /// How [`Document::morph`] moves the edges and vertices of the morphed faces.
 ///
-/// Measured on `samples/hull3.stp` and `samples/blade.stp` under a smooth non-affine map
-/// (see `tests/edits.rs`, `edge_policy_gap`): both leave gaps far below the files'
-/// uncertainty where edges are iso-curves of the patches (the common case of lofted and
-/// split hulls), and [`Recompute`](EdgePolicy::Recompute) is never worse, because it
-/// rebuilds each edge from the morphed surface itself instead of applying the map to a
-/// second, independent set of control points. It is the default.
+/// Measured by `tests/edits.rs::edge_policy_gap` (largest distance from 17 samples per
+/// edge and from the vertices to the adjacent morphed faces, under the smooth non-affine
+/// map `y·(1 + 0.05 sin(x/20)), z + 0.1 (y/4)²`):
+///
+/// | sample | `MoveControlPoints` | `Recompute` | file uncertainty |
+/// | --- | --- | --- | --- |
+/// | `hull3.stp` (10 edges) | 1.404e-10 m | 1.404e-10 m | 1e-7 m |
+/// | `blade.stp` (3 edges) | 1.263e-12 m | 1.264e-12 m | 1e-7 m |
+///
+/// Both are at the floor of the projection used to measure: in these files (as OCCT and
+/// most lofting tools write them) every edge curve is the boundary iso-curve of its
+/// patches with the same knots and poles, so moving its poles with the map moves it
+/// exactly with the face. [`Recompute`](EdgePolicy::Recompute) is the default because it
+/// stays on the morphed face by construction when that is not so (an edge curve with
+/// other knots or degree than the face, an interior iso-curve): it rebuilds the edge from
+/// the morphed surface instead of mapping a second, independent set of control points.
+/// That case is not in the samples and is not measured here.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum EdgePolicy {
     /// Apply the map to the control points of the edge curves and to the vertex points.

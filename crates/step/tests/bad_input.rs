@@ -85,8 +85,9 @@ fn wrong_arity() {
     let e = doc.point(EntityId(7)).unwrap_err();
     assert!(matches!(e, Error::Arity { expected: 2, found: 3, .. }), "{e}");
     assert_eq!(pos(&e), (7, 6, Some(EntityId(7))));
-    let doc = Document::parse(face_with("#20 = CYLINDRICAL_SURFACE('',#21);\n#21 = DIRECTION('',(0.,0.,1.));").as_bytes())
-        .unwrap();
+    let doc =
+        Document::parse(face_with("#20 = CYLINDRICAL_SURFACE('',#21);\n#21 = DIRECTION('',(0.,0.,1.));").as_bytes())
+            .unwrap();
     let f = &doc.faces().unwrap()[0];
     let e = doc.face_nurbs(f).unwrap_err();
     assert!(matches!(e, Error::Arity { .. }), "{e}");

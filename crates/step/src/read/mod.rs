@@ -344,6 +344,7 @@ impl Document {
             texts: BTreeMap::new(),
             insert_at,
             max_id,
+            units_cache: std::sync::OnceLock::new(),
         })
     }
 }

@@ -279,6 +279,7 @@ impl Document {
         let (ctx, units) = self.ctx()?;
         let mut out = Vec::new();
         let mut kinds: HashMap<u64, SurfaceKind> = HashMap::new();
+        let mut occurrences_of: HashMap<u64, usize> = HashMap::new();
         for (occ_index, occ) in ctx.occurrences(units.length.metres)?.into_iter().enumerate() {
             let rep = ctx.any(occ.rep)?;
             let mut faces = Vec::new();
@@ -320,7 +321,9 @@ impl Document {
                         k
                     }
                 };
-                let occurrence = out.iter().filter(|f: &&Face| f.id == fid).count();
+                let seen = occurrences_of.entry(fid.0).or_insert(0usize);
+                let occurrence = *seen;
+                *seen += 1;
                 out.push(Face {
                     id: fid,
                     surface,

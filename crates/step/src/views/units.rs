@@ -217,6 +217,15 @@ impl Document {
     /// assert_eq!(units.uncertainty, Some(1e-7));
     /// ```
     pub fn units(&self) -> Result<Units> {
+        if let Some(u) = self.units_cache.get() {
+            return Ok(u.clone());
+        }
+        let u = self.find_units()?;
+        let _ = self.units_cache.set(u.clone());
+        Ok(u)
+    }
+
+    fn find_units(&self) -> Result<Units> {
         let ctx = Ctx::new(self, 1.0);
         for k in 0..self.instances.len() {
             if !self.instances[k].complex {

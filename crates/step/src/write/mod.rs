@@ -111,6 +111,7 @@ impl Document {
         old.name_len = inst.name_len;
         old.complex = inst.complex;
         self.texts.insert(k, text);
+        self.units_cache = std::sync::OnceLock::new();
         Ok(())
     }
 
@@ -143,6 +144,7 @@ impl Document {
         self.instances.push(inst);
         self.index.insert(id, k);
         self.texts.insert(k, text);
+        self.units_cache = std::sync::OnceLock::new();
         self.max_id = id;
         Ok(EntityId(id))
     }
