@@ -348,12 +348,99 @@ fn numeric(c: u8) -> bool {
 /// Splits `text[pos..]` into parameters up to the record delimiter `rd`.
 ///
 /// Returns the tokens and the offset just after the record delimiter.
-pub(crate) fn tokenize(text: &[u8], mut pos: usize, pd: u8, rd: u8, out: &mut Vec<Token>) -> Result<usize, LexError> {
+pub(crate) fn tokenize(text: &[u8], pos: usize, pd: u8, rd: u8, out: &mut Vec<Token>) -> Result<usize, LexError> {
+    match tokenize_until(text, pos, pd, rd, usize::MAX, out)? {
+        Stop::End(p) | Stop::At(p) => Ok(p),
+    }
+}
+
+/// Where [`tokenize_until`] stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Stop {
+    /// After the record delimiter, at this offset.
+    End(usize),
+    /// At the start of a parameter at or after the stop offset.
+    At(usize),
+}
+
+/// Records longer than this are split into chunks tokenized in parallel.
+const CHUNK: usize = 1 << 18;
+
+/// The tokens of a whole record, in parallel for long records: the text is cut at line
+/// starts into chunks, each tokenized as if a parameter started there; the cut is
+/// accepted only if the chunk before it, read on, starts a parameter at exactly the same
+/// place (so a cut inside a string or number, or just before a delimiter, is detected).
+/// Otherwise the record is read in one piece, so the result is always the sequential one.
+pub(crate) fn tokenize_record(text: &[u8], pd: u8, rd: u8, width: usize) -> Result<Vec<Token>, LexError> {
+    chunked(text, pd, rd, width).map(|(t, _)| t)
+}
+
+/// [`tokenize_record`], and whether the parallel cut was used.
+fn chunked(text: &[u8], pd: u8, rd: u8, width: usize) -> Result<(Vec<Token>, bool), LexError> {
+    let n = text.len() / CHUNK;
+    let fast = !numeric(pd) && !numeric(rd) && !is_blank(pd) && !is_blank(rd);
+    if n < 2 || !fast {
+        let mut out = Vec::with_capacity(text.len() / 3 + 1);
+        tokenize(text, 0, pd, rd, &mut out)?;
+        return Ok((out, false));
+    }
+    let cuts: Vec<usize> = (0..=n).map(|k| if k == n { text.len() } else { k * CHUNK / width * width }).collect();
+    use rayon::prelude::*;
+    let parts: Vec<Option<(Vec<Token>, Stop)>> = (0..n)
+        .into_par_iter()
+        .map(|k| {
+            let mut out = Vec::with_capacity((cuts[k + 1] - cuts[k]) / 3 + 1);
+            let stop = if k + 1 == n { usize::MAX } else { cuts[k + 1] };
+            tokenize_until(text, cuts[k], pd, rd, stop, &mut out).ok().map(|s| (out, s))
+        })
+        .collect();
+    let mut tokens = Vec::with_capacity(parts.iter().flatten().map(|p| p.0.len()).sum());
+    let mut ok = true;
+    for (k, part) in parts.into_iter().enumerate() {
+        let Some((toks, stop)) = part else {
+            ok = false;
+            break;
+        };
+        let expected = if k + 1 == n {
+            matches!(stop, Stop::End(_))
+        } else {
+            let mut q = cuts[k + 1];
+            while q < text.len() && is_blank(text[q]) {
+                q += 1;
+            }
+            stop == Stop::At(q)
+        };
+        if !expected {
+            ok = false;
+            break;
+        }
+        tokens.extend(toks);
+    }
+    if ok {
+        return Ok((tokens, true));
+    }
+    let mut out = Vec::with_capacity(text.len() / 3 + 1);
+    tokenize(text, 0, pd, rd, &mut out)?;
+    Ok((out, false))
+}
+
+/// [`tokenize`], stopping at the first parameter that starts at or after `stop`.
+pub(crate) fn tokenize_until(
+    text: &[u8],
+    mut pos: usize,
+    pd: u8,
+    rd: u8,
+    stop: usize,
+    out: &mut Vec<Token>,
+) -> Result<Stop, LexError> {
     let len = text.len();
     let fast = !numeric(pd) && !numeric(rd) && !is_blank(pd) && !is_blank(rd);
     loop {
         while pos < len && is_blank(text[pos]) && text[pos] != pd && text[pos] != rd {
             pos += 1;
+        }
+        if pos >= stop {
+            return Ok(Stop::At(pos));
         }
         if pos >= len {
             return Err(LexError::NoRecordEnd { offset: len });
@@ -366,7 +453,7 @@ pub(crate) fn tokenize(text: &[u8], mut pos: usize, pd: u8, rd: u8, out: &mut Ve
         }
         if c == rd {
             out.push(Token { offset: pos as u32, raw: Raw::Default });
-            return Ok(pos + 1);
+            return Ok(Stop::End(pos + 1));
         }
         let start = pos;
         let scanned = if fast { scan(text, pos) } else { Scan::Slow };
@@ -408,7 +495,7 @@ pub(crate) fn tokenize(text: &[u8], mut pos: usize, pd: u8, rd: u8, out: &mut Ve
             return Err(LexError::NoRecordEnd { offset: len });
         }
         if text[pos] == rd {
-            return Ok(pos + 1);
+            return Ok(Stop::End(pos + 1));
         }
         if text[pos] != pd {
             let end = (pos + 20).min(len);
@@ -484,6 +571,42 @@ mod tests {
     }
 
     proptest::proptest! {
+        #![proptest_config(proptest::test_runner::Config { cases: 24, ..Default::default() })]
+        /// Long records read in parallel chunks give exactly the sequential tokens, also
+        /// when cuts fall inside strings or before delimiters.
+        #[test]
+        fn chunked_records_equal_sequential(seed in 0u64..1000, strings in 0usize..4) {
+            let mut rec = String::new();
+            let mut line = String::from("128,");
+            let mut k = seed;
+            while rec.len() < 3 * CHUNK {
+                k = k.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                let tok = match (k >> 60) as usize % (4 + strings) {
+                    0 => format!("{}", (k >> 20) % 1000),
+                    1 => format!("{:?}", (k >> 11) as f64 / (1u64 << 53) as f64),
+                    2 => String::new(),
+                    3 => format!("{:.3E}", (k >> 30) as f64),
+                    _ => { let n = (k >> 40) as usize % 150; format!("{n}H{}", ",".repeat(n)) }
+                };
+                let piece = format!("{tok},");
+                if line.len() + piece.len() > 64 && !tok.contains('H') {
+                    rec.push_str(&format!("{line:64}"));
+                    line.clear();
+                }
+                line.push_str(&piece);
+            }
+            line.push_str("0;");
+            rec.push_str(&format!("{line:64}"));
+            let mut seq = Vec::new();
+            tokenize(rec.as_bytes(), 0, b',', b';', &mut seq).unwrap();
+            let (par, parallel) = chunked(rec.as_bytes(), b',', b';', 64).unwrap();
+            proptest::prop_assert!(seq == par);
+            if strings == 0 {
+                // Without strings every cut falls on a line start before a parameter.
+                proptest::prop_assert!(parallel);
+            }
+        }
+
         /// The one-pass scan of a record gives what `str::parse` gives for each number.
         #[test]
         fn records_scan_exactly(xs in proptest::collection::vec(proptest::num::f64::NORMAL, 1..20), digits in 1usize..18) {

@@ -365,8 +365,7 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Document> {
         }
         let p_line = p0 + p_first + 1;
         let map = |off: usize| pos('P', p_line + off / P_WIDTH, off % P_WIDTH + 1, Some(id.0));
-        let mut tokens = Vec::with_capacity(text.len() / 3 + 1);
-        tokenize(&text, 0, pd, rd, &mut tokens).map_err(|e| lex_position(&e, &map))?;
+        let tokens = lexer::tokenize_record(&text, pd, rd, P_WIDTH).map_err(|e| lex_position(&e, &map))?;
         if tokens.first().map(|t| t.raw) != Some(Raw::Integer(i64::from(dir.entity_type))) {
             return Err(Error::Mismatch {
                 at: map(0),
