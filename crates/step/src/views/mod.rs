@@ -127,7 +127,7 @@ impl WorldSurface {
     /// let faces = doc.faces().unwrap();
     /// let cyl = faces.iter().find(|f| f.kind == cadmorph_step::SurfaceKind::Cylinder).unwrap();
     /// let w = doc.face_nurbs(cyl).unwrap();
-    /// let (s, _) = w.nurbs_params(w.u_range.0 + std::f64::consts::TAU, w.v_range.0);
+    /// let (s, _) = w.nurbs_params(w.u_range.0 - std::f64::consts::TAU, w.v_range.0);
     /// assert!((s - w.u_range.0).abs() < 1e-12);
     /// ```
     pub fn nurbs_params(&self, u: f64, v: f64) -> (f64, f64) {
