@@ -9,7 +9,8 @@
 # bench crates/iges/benches/parse.rs): hull3_200x150.igs, 3 trimmed bicubic patches of
 # 200 x 150 poles (~5.6 MB, metres), and faces300.igs, 300 trimmed bicubic 8 x 8 faces.
 # Prints both programs' JSON lines and the ratio OCCT time / cadmorph time (best over
-# rounds). Face counts must agree, or the script fails.
+# rounds). Face counts must agree, or the script fails. OCCT prints progress messages on
+# stdout; only its JSON lines are kept.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/.." && pwd)"
@@ -40,7 +41,7 @@ trap 'rm -f "$out"; [ -z "$keep" ] && rm -rf "$dir"' EXIT
 "$ours" --write "$dir"
 files=("$dir/hull3_200x150.igs" "$dir/faces300.igs")
 for r in $(seq "$rounds"); do
-    "$occt" --repeat "$repeat" "${files[@]}" | sed 's/^/occt /' | tee -a "$out"
+    "$occt" --repeat "$repeat" "${files[@]}" | grep "^{" | sed "s/^/occt /" | tee -a "$out"
     "$ours" --repeat "$repeat" "${files[@]}" | sed 's/^/cadmorph /' | tee -a "$out"
 done
 python3 - "$out" <<'PY'

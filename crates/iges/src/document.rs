@@ -6,7 +6,7 @@ use std::fmt;
 
 use crate::error::{Error, Position, Result};
 use crate::global::Global;
-use crate::read::lexer::{Raw, Token};
+use crate::read::lexer::Raw;
 
 /// The DE sequence number of an entity (odd, 1-based: the first entity is DE 1, the
 /// second DE 3). Pointers in IGES are these numbers.
@@ -142,7 +142,9 @@ pub struct Entity {
     /// The record text: columns 1–64 of its parameter lines, concatenated.
     pub(crate) text: Vec<u8>,
     /// Parameters, the entity type first.
-    pub(crate) tokens: Vec<Token>,
+    pub(crate) tokens: Vec<Raw>,
+    /// The file's delimiters (to recompute token offsets for error positions).
+    pub(crate) delimiters: (u8, u8),
     /// Index of its first line in the P section (0-based) and line count, as read.
     pub(crate) p_first: usize,
     pub(crate) p_count: usize,
@@ -179,11 +181,11 @@ impl Entity {
     }
     /// Parameter `i` (0 is the entity type).
     pub fn param(&self, i: usize) -> Option<Param<'_>> {
-        self.tokens.get(i).map(|t| self.resolve(t.raw))
+        self.tokens.get(i).map(|t| self.resolve(*t))
     }
     /// All parameters, the entity type first.
     pub fn params(&self) -> impl Iterator<Item = Param<'_>> + '_ {
-        self.tokens.iter().map(|t| self.resolve(t.raw))
+        self.tokens.iter().map(|t| self.resolve(*t))
     }
     /// All parameters as owned values.
     pub fn values(&self) -> Vec<Value> {
@@ -212,7 +214,8 @@ impl Entity {
 
     /// The file position of parameter `i` (or of the record's end when `i` is past it).
     pub fn position(&self, i: usize) -> Position {
-        let off = self.tokens.get(i).map_or(self.text.len(), |t| t.offset as usize);
+        let offsets = crate::read::lexer::offsets(&self.text, self.delimiters.0, self.delimiters.1);
+        let off = offsets.get(i).copied().unwrap_or(self.text.len());
         self.offset_position(off)
     }
 
@@ -289,6 +292,22 @@ impl Document {
     /// panics, and no allocation is made from a count before checking it against the
     /// input left.
     pub fn parse(bytes: &[u8]) -> Result<Self> {
+        crate::read::parse(bytes.to_vec())
+    }
+
+    /// Like [`parse`](Self::parse), keeping `bytes` as the document's text instead of a
+    /// copy (for `std::fs::read` output).
+    ///
+    /// # Errors
+    ///
+    /// As [`parse`](Self::parse).
+    ///
+    /// ```
+    /// let bytes = std::fs::read(cadmorph_testkit::sample("nurbs_arc.igs")).unwrap();
+    /// let doc = cadmorph_iges::Document::from_bytes(bytes.clone()).unwrap();
+    /// assert_eq!(doc.write(), bytes);
+    /// ```
+    pub fn from_bytes(bytes: Vec<u8>) -> Result<Self> {
         crate::read::parse(bytes)
     }
 

@@ -112,9 +112,9 @@ impl Document {
             text.extend_from_slice(l);
             text.resize(text.len() + P_WIDTH - l.len(), b' ');
         }
-        let mut tokens = Vec::with_capacity(values.len());
+        let mut tokens: Vec<Raw> = Vec::with_capacity(values.len());
         tokenize(&text, 0, pd, rd, &mut tokens).map_err(|e| edit_err(id, format!("unreadable record: {e:?}")))?;
-        debug_assert_eq!(tokens.first().map(|t| t.raw), Some(Raw::Integer(i64::from(ty))));
+        debug_assert_eq!(tokens.first().copied(), Some(Raw::Integer(i64::from(ty))));
         let e = &mut self.entities[k];
         if ty != e.directory.entity_type || form_changes {
             e.directory.entity_type = ty;

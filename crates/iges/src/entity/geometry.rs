@@ -5,6 +5,7 @@ use nalgebra::{Matrix4, Point3, Vector3};
 use super::Cursor;
 use crate::document::EntityId;
 use crate::error::Result;
+use crate::read::lexer::Raw;
 
 /// 100 circular arc, in the plane `z = z_t` of its definition space, counter-clockwise
 /// from `start` to `end` about `center`.
@@ -485,24 +486,27 @@ impl BSplineSurface {
         c.need("weights and control points", n, 4)?;
         let u_knots = c.reals("u knot", nuk)?;
         let v_knots = c.reals("v knot", nvk)?;
-        let mut wf = Vec::new();
-        c.reals_into("weight", n, &mut wf)?;
-        let mut xyz = Vec::new();
-        c.reals_into("control point", 3 * n, &mut xyz)?;
+        let wf = c.real_tokens("weight", n)?;
+        let xyz = c.real_tokens("control point", 3 * n)?;
         let range = [
             c.real_or("U0", u_knots[u_degree])?,
             c.real_or("U1", u_knots[n_u])?,
             c.real_or("V0", v_knots[v_degree])?,
             c.real_or("V1", v_knots[n_v])?,
         ];
+        let real = |r: &Raw| match *r {
+            Raw::Real(x) => x,
+            Raw::Integer(i) => i as f64,
+            _ => 0.0,
+        };
         // File order: u index fastest. Cadmorph order: i * n_v + j.
         let mut points = Vec::with_capacity(n);
         let mut w = Vec::with_capacity(n);
         for i in 0..n_u {
             for j in 0..n_v {
                 let f = j * n_u + i;
-                points.push(Point3::new(xyz[3 * f], xyz[3 * f + 1], xyz[3 * f + 2]));
-                w.push(wf[f]);
+                points.push(Point3::new(real(&xyz[3 * f]), real(&xyz[3 * f + 1]), real(&xyz[3 * f + 2])));
+                w.push(real(&wf[f]));
             }
         }
         let polynomial = props[2] == 1 || w.iter().all(|&x| x == w[0]);

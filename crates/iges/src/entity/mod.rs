@@ -169,7 +169,7 @@ impl<'a> Cursor<'a> {
         let toks = &self.e.tokens[self.i..self.i + n];
         out.reserve(n);
         for (k, t) in toks.iter().enumerate() {
-            out.push(match t.raw {
+            out.push(match *t {
                 Raw::Real(x) => x,
                 Raw::Integer(i) => i as f64,
                 Raw::Default => 0.0,
@@ -178,6 +178,18 @@ impl<'a> Cursor<'a> {
         }
         self.i += n;
         Ok(())
+    }
+
+    /// The `n` reals ahead as a slice of tokens (checked to be numbers or defaults), then
+    /// skipped: for callers that place them themselves.
+    pub(crate) fn real_tokens(&mut self, what: &'static str, n: usize) -> Result<&'a [Raw]> {
+        self.need(what, n, 1)?;
+        let toks = &self.e.tokens[self.i..self.i + n];
+        if let Some(k) = toks.iter().position(|t| matches!(t, Raw::Text { .. })) {
+            return Err(self.err(self.i + k, what, "a real"));
+        }
+        self.i += n;
+        Ok(toks)
     }
 
     /// `n` pointers.

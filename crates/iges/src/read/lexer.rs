@@ -29,6 +29,34 @@ pub(crate) struct Token {
     pub raw: Raw,
 }
 
+/// Where tokens go: with their offsets (Global section, error positions) or without
+/// (parameter records, where offsets are recomputed only to report an error).
+pub(crate) trait Sink {
+    /// Appends a token that starts at `offset`.
+    fn put(&mut self, offset: usize, raw: Raw);
+}
+
+impl Sink for Vec<Token> {
+    #[inline]
+    fn put(&mut self, offset: usize, raw: Raw) {
+        self.push(Token { offset: offset as u32, raw });
+    }
+}
+
+impl Sink for Vec<Raw> {
+    #[inline]
+    fn put(&mut self, _offset: usize, raw: Raw) {
+        self.push(raw);
+    }
+}
+
+/// The offsets of the parameters of a record (as far as it reads).
+pub(crate) fn offsets(text: &[u8], pd: u8, rd: u8) -> Vec<usize> {
+    let mut out: Vec<Token> = Vec::new();
+    let _ = tokenize(text, 0, pd, rd, &mut out);
+    out.into_iter().map(|t| t.offset as usize).collect()
+}
+
 /// What went wrong, at which byte offset of the record text.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) enum LexError {
@@ -348,7 +376,7 @@ fn numeric(c: u8) -> bool {
 /// Splits `text[pos..]` into parameters up to the record delimiter `rd`.
 ///
 /// Returns the tokens and the offset just after the record delimiter.
-pub(crate) fn tokenize(text: &[u8], pos: usize, pd: u8, rd: u8, out: &mut Vec<Token>) -> Result<usize, LexError> {
+pub(crate) fn tokenize<S: Sink>(text: &[u8], pos: usize, pd: u8, rd: u8, out: &mut S) -> Result<usize, LexError> {
     match tokenize_until(text, pos, pd, rd, usize::MAX, out)? {
         Stop::End(p) | Stop::At(p) => Ok(p),
     }
@@ -363,33 +391,35 @@ pub(crate) enum Stop {
     At(usize),
 }
 
-/// Records longer than this are split into chunks tokenized in parallel.
-const CHUNK: usize = 1 << 18;
+/// Records of at least two of these are split into chunks tokenized in parallel. Below
+/// that the second thread does not pay for the extra memory (the chunks' tokens are
+/// copied into one vector, and fresh pages cost as much as the scan).
+const CHUNK: usize = 1 << 21;
 
 /// The tokens of a whole record, in parallel for long records: the text is cut at line
 /// starts into chunks, each tokenized as if a parameter started there; the cut is
 /// accepted only if the chunk before it, read on, starts a parameter at exactly the same
 /// place (so a cut inside a string or number, or just before a delimiter, is detected).
 /// Otherwise the record is read in one piece, so the result is always the sequential one.
-pub(crate) fn tokenize_record(text: &[u8], pd: u8, rd: u8, width: usize) -> Result<Vec<Token>, LexError> {
-    chunked(text, pd, rd, width).map(|(t, _)| t)
+pub(crate) fn tokenize_record(text: &[u8], pd: u8, rd: u8, width: usize) -> Result<Vec<Raw>, LexError> {
+    chunked(text, pd, rd, width, CHUNK).map(|(t, _)| t)
 }
 
 /// [`tokenize_record`], and whether the parallel cut was used.
-fn chunked(text: &[u8], pd: u8, rd: u8, width: usize) -> Result<(Vec<Token>, bool), LexError> {
-    let n = text.len() / CHUNK;
+fn chunked(text: &[u8], pd: u8, rd: u8, width: usize, chunk: usize) -> Result<(Vec<Raw>, bool), LexError> {
+    let n = text.len() / chunk;
     let fast = !numeric(pd) && !numeric(rd) && !is_blank(pd) && !is_blank(rd);
     if n < 2 || !fast {
-        let mut out = Vec::with_capacity(text.len() / 3 + 1);
+        let mut out: Vec<Raw> = Vec::with_capacity(text.len() / 8 + 16);
         tokenize(text, 0, pd, rd, &mut out)?;
         return Ok((out, false));
     }
-    let cuts: Vec<usize> = (0..=n).map(|k| if k == n { text.len() } else { k * CHUNK / width * width }).collect();
+    let cuts: Vec<usize> = (0..=n).map(|k| if k == n { text.len() } else { k * chunk / width * width }).collect();
     use rayon::prelude::*;
-    let parts: Vec<Option<(Vec<Token>, Stop)>> = (0..n)
+    let parts: Vec<Option<(Vec<Raw>, Stop)>> = (0..n)
         .into_par_iter()
         .map(|k| {
-            let mut out = Vec::with_capacity((cuts[k + 1] - cuts[k]) / 3 + 1);
+            let mut out: Vec<Raw> = Vec::with_capacity((cuts[k + 1] - cuts[k]) / 8 + 16);
             let stop = if k + 1 == n { usize::MAX } else { cuts[k + 1] };
             tokenize_until(text, cuts[k], pd, rd, stop, &mut out).ok().map(|s| (out, s))
         })
@@ -419,19 +449,19 @@ fn chunked(text: &[u8], pd: u8, rd: u8, width: usize) -> Result<(Vec<Token>, boo
     if ok {
         return Ok((tokens, true));
     }
-    let mut out = Vec::with_capacity(text.len() / 3 + 1);
+    let mut out: Vec<Raw> = Vec::with_capacity(text.len() / 8 + 16);
     tokenize(text, 0, pd, rd, &mut out)?;
     Ok((out, false))
 }
 
 /// [`tokenize`], stopping at the first parameter that starts at or after `stop`.
-pub(crate) fn tokenize_until(
+pub(crate) fn tokenize_until<S: Sink>(
     text: &[u8],
     mut pos: usize,
     pd: u8,
     rd: u8,
     stop: usize,
-    out: &mut Vec<Token>,
+    out: &mut S,
 ) -> Result<Stop, LexError> {
     let len = text.len();
     let fast = !numeric(pd) && !numeric(rd) && !is_blank(pd) && !is_blank(rd);
@@ -447,12 +477,12 @@ pub(crate) fn tokenize_until(
         }
         let c = text[pos];
         if c == pd {
-            out.push(Token { offset: pos as u32, raw: Raw::Default });
+            out.put(pos, Raw::Default);
             pos += 1;
             continue;
         }
         if c == rd {
-            out.push(Token { offset: pos as u32, raw: Raw::Default });
+            out.put(pos, Raw::Default);
             return Ok(Stop::End(pos + 1));
         }
         let start = pos;
@@ -487,7 +517,7 @@ pub(crate) fn tokenize_until(
                 }
             }
         };
-        out.push(Token { offset: start as u32, raw });
+        out.put(start, raw);
         while pos < len && is_blank(text[pos]) && text[pos] != pd && text[pos] != rd {
             pos += 1;
         }
@@ -512,7 +542,7 @@ mod tests {
     use super::*;
 
     fn values(s: &str) -> Vec<Raw> {
-        let mut out = Vec::new();
+        let mut out: Vec<Token> = Vec::new();
         tokenize(s.as_bytes(), 0, b',', b';', &mut out).unwrap();
         out.into_iter().map(|t| t.raw).collect()
     }
@@ -570,8 +600,11 @@ mod tests {
         }
     }
 
+    /// Chunk size of the chunking test (small, so records stay small).
+    const TEST_CHUNK: usize = 1 << 14;
+
     proptest::proptest! {
-        #![proptest_config(proptest::test_runner::Config { cases: 24, ..Default::default() })]
+        #![proptest_config(proptest::test_runner::Config { cases: 64, ..Default::default() })]
         /// Long records read in parallel chunks give exactly the sequential tokens, also
         /// when cuts fall inside strings or before delimiters.
         #[test]
@@ -579,7 +612,7 @@ mod tests {
             let mut rec = String::new();
             let mut line = String::from("128,");
             let mut k = seed;
-            while rec.len() < 3 * CHUNK {
+            while rec.len() < 3 * TEST_CHUNK {
                 k = k.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
                 let tok = match (k >> 60) as usize % (4 + strings) {
                     0 => format!("{}", (k >> 20) % 1000),
@@ -597,9 +630,9 @@ mod tests {
             }
             line.push_str("0;");
             rec.push_str(&format!("{line:64}"));
-            let mut seq = Vec::new();
+            let mut seq: Vec<Raw> = Vec::new();
             tokenize(rec.as_bytes(), 0, b',', b';', &mut seq).unwrap();
-            let (par, parallel) = chunked(rec.as_bytes(), b',', b';', 64).unwrap();
+            let (par, parallel) = chunked(rec.as_bytes(), b',', b';', 64, TEST_CHUNK).unwrap();
             proptest::prop_assert!(seq == par);
             if strings == 0 {
                 // Without strings every cut falls on a line start before a parameter.
@@ -616,7 +649,7 @@ mod tests {
                 _ => format!("{}", (x % 1e6).round() as i64),
             }).collect();
             let record = format!("128,{}  ;", texts.join(" ,"));
-            let mut out = Vec::new();
+            let mut out: Vec<Token> = Vec::new();
             tokenize(record.as_bytes(), 0, b',', b';', &mut out).unwrap();
             proptest::prop_assert_eq!(out.len(), texts.len() + 1);
             for (t, s) in out[1..].iter().zip(&texts) {
@@ -654,14 +687,14 @@ mod tests {
         assert_eq!(v[2], Raw::Text { start: 7, len: 3 });
         assert_eq!(v[3], Raw::Integer(2));
         assert_eq!(v[4], Raw::Default);
-        let mut out = Vec::new();
+        let mut out: Vec<Token> = Vec::new();
         tokenize(b"1/2.5/3HA/B!junk", 0, b'/', b'!', &mut out).unwrap();
         assert_eq!(out.len(), 3);
     }
 
     #[test]
     fn errors_name_the_offset() {
-        let mut out = Vec::new();
+        let mut out: Vec<Token> = Vec::new();
         assert_eq!(tokenize(b"1,2", 0, b',', b';', &mut out), Err(LexError::NoRecordEnd { offset: 3 }));
         assert_eq!(tokenize(b"1,9Habc;", 0, b',', b';', &mut out), Err(LexError::Hollerith { offset: 2, length: 9 }));
         assert!(matches!(tokenize(b"1,x;", 0, b',', b';', &mut out), Err(LexError::Number { offset: 2, .. })));

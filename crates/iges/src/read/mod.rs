@@ -313,8 +313,9 @@ fn directory(a: &[u8], b: &[u8], line: usize, entries: usize) -> Result<Director
     })
 }
 
-/// Reads the whole document.
-pub(crate) fn parse(bytes: &[u8]) -> Result<Document> {
+/// Reads the whole document, taking ownership of the bytes (kept for writing).
+pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
+    let bytes = &source[..];
     let lines = split_lines(bytes);
     let layout = sections(bytes, &lines)?;
     let global = global(bytes, &lines, &layout)?;
@@ -366,7 +367,7 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Document> {
         let p_line = p0 + p_first + 1;
         let map = |off: usize| pos('P', p_line + off / P_WIDTH, off % P_WIDTH + 1, Some(id.0));
         let tokens = lexer::tokenize_record(&text, pd, rd, P_WIDTH).map_err(|e| lex_position(&e, &map))?;
-        if tokens.first().map(|t| t.raw) != Some(Raw::Integer(i64::from(dir.entity_type))) {
+        if tokens.first().copied() != Some(Raw::Integer(i64::from(dir.entity_type))) {
             return Err(Error::Mismatch {
                 at: map(0),
                 expected: format!("entity type {} first", dir.entity_type),
@@ -378,6 +379,7 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Document> {
             directory: dir,
             text,
             tokens,
+            delimiters: (pd, rd),
             p_first,
             p_count,
             p_line,
