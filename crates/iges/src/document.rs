@@ -364,6 +364,45 @@ impl Document {
         m
     }
 
+    /// Checks the Terminate record's line counts against the sections (the reader itself
+    /// does not insist on them, as OCCT does not).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Terminate`] naming the first section whose count differs, or
+    /// [`Error::Syntax`] if the record does not hold four counts.
+    ///
+    /// ```
+    /// let bytes = std::fs::read(cadmorph_testkit::sample("hull3.igs")).unwrap();
+    /// cadmorph_iges::Document::parse(&bytes).unwrap().check_terminate().unwrap();
+    /// ```
+    pub fn check_terminate(&self) -> Result<()> {
+        let t = self.layout.terminate;
+        let line = self.line_bytes(t);
+        let found = [
+            ('S', self.layout.start.len()),
+            ('G', self.layout.global.len()),
+            ('D', self.layout.directory.len()),
+            ('P', self.layout.parameter.len()),
+        ];
+        for (k, (letter, n)) in found.into_iter().enumerate() {
+            let field = &line[8 * k..8 * k + 8];
+            let at = Position { section: 'T', line: t + 1, column: 8 * k + 1, entity: None };
+            let digits = std::str::from_utf8(&field[1..]).ok().map(str::trim).and_then(|d| d.parse::<i64>().ok());
+            let Some(declared) = digits.filter(|_| field[0] == letter as u8) else {
+                return Err(Error::Syntax {
+                    at,
+                    expected: "a section letter and a 7-digit count",
+                    found: crate::error::snippet(field),
+                });
+            };
+            if declared != n as i64 {
+                return Err(Error::Terminate { at, section: letter, declared, found: n });
+            }
+        }
+        Ok(())
+    }
+
     /// Whether any edit has been made.
     pub fn is_edited(&self) -> bool {
         self.edited

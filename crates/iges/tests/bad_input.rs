@@ -144,6 +144,20 @@ fn non_numbers() {
 }
 
 #[test]
+fn terminate_counts() {
+    // One P line fewer declared than present.
+    let bytes = sample("nurbs_arc.igs");
+    let t_start = bytes.len() - 81;
+    let mut bad = bytes.clone();
+    assert_eq!(&bad[t_start + 24..t_start + 32], b"P      2");
+    bad[t_start + 31] = b'1';
+    let doc = Document::parse(&bad).unwrap();
+    let err = doc.check_terminate().unwrap_err();
+    assert!(matches!(err, Error::Terminate { section: 'P', declared: 1, found: 2, .. }), "{err}");
+    assert_eq!(at(&err), Position { section: 'T', line: 10, column: 25, entity: None });
+}
+
+#[test]
 fn line_endings_and_missing_blanks() {
     let bytes = sample("nurbs_arc.igs");
     let crlf: Vec<u8> = bytes.iter().flat_map(|&c| if c == b'\n' { vec![b'\r', b'\n'] } else { vec![c] }).collect();

@@ -86,8 +86,9 @@ fn only_the_edited_record_changes() {
     let unchanged_old: Vec<&[u8]> = p_old.iter().filter(|l| back_pointer(l) != edited.0).map(|l| &l[..72]).collect();
     let unchanged_new: Vec<&[u8]> = p_new.iter().filter(|l| back_pointer(l) != edited.0).map(|l| &l[..72]).collect();
     assert_eq!(unchanged_old, unchanged_new);
-    // The written file reads back to itself.
+    // The written file reads back to itself, with consistent counts.
     assert_eq!(new.write(), out);
+    new.check_terminate().unwrap();
     let View::BSplineSurface(s) = new.view(edited).unwrap() else { panic!() };
     assert_eq!(s.points, doc.surface(edited).unwrap().surface.control_points());
 }
@@ -144,6 +145,7 @@ fn replacing_analytic_surfaces_keeps_the_geometry() {
         let out = doc.write();
         let back = Document::parse(&out).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(back.write(), out);
+        back.check_terminate().unwrap();
         for id in &ids {
             assert!(matches!(back.view(*id).unwrap(), View::BSplineSurface(_)), "{name} {id}");
         }
@@ -161,6 +163,7 @@ fn replacing_analytic_surfaces_keeps_the_geometry() {
 #[test]
 fn new_documents_hold_the_geometry() {
     let (doc, b) = new_document();
+    doc.check_terminate().unwrap();
     for (id, s) in &b {
         assert_eq!(doc.surface(*id).unwrap().surface, *s);
     }

@@ -33,6 +33,7 @@ fn unchanged_round_trip_is_byte_identical() {
         let doc = Document::parse(&bytes).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         assert!(!doc.is_edited());
         assert!(doc.write() == bytes, "{} differs after a round trip", path.display());
+        doc.check_terminate().unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     }
 }
 
