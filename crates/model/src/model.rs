@@ -1,0 +1,513 @@
+//! The model: patches of an IGES or STEP document, seams, morph, save.
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::Path;
+
+use cadmorph_iges as iges;
+use cadmorph_morph::Deformation;
+use cadmorph_nurbs::math::Point3;
+use cadmorph_nurbs::NurbsSurface;
+use cadmorph_seam::{
+    make_compatible, measure_boundary, refine_seams, refine_uniform, repair, shared_boundaries, Face,
+    SeamRefineOptions, SeamRefinement, SeamReport, SharedBoundary,
+};
+use cadmorph_step as step;
+use serde::Serialize;
+
+use crate::{Error, Result};
+
+/// The file format a model came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Format {
+    /// IGES 5.3 fixed format.
+    Iges,
+    /// ISO 10303-21 (STEP).
+    Step,
+}
+
+/// The entities a patch came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Source {
+    /// IGES: the face entity (144, 143, 510, or the bare surface) and its surface entity.
+    Iges {
+        /// Face DE number.
+        face: u32,
+        /// Surface DE number.
+        surface: u32,
+    },
+    /// STEP: the face instance and its surface instance.
+    Step {
+        /// Face instance id.
+        face: u64,
+        /// Surface instance id.
+        surface: u64,
+    },
+}
+
+impl fmt::Display for Source {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Source::Iges { face, surface } if face == surface => write!(f, "DE {face}"),
+            Source::Iges { face, surface } => write!(f, "DE {face} (surface DE {surface})"),
+            Source::Step { face, surface } => write!(f, "#{face} (surface #{surface})"),
+        }
+    }
+}
+
+/// One face as a NURBS patch in world coordinates and model units.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Patch {
+    /// The exact NURBS form of the face's surface.
+    pub surface: NurbsSurface,
+    /// Face orientation opposite to the surface normal.
+    pub reversed: bool,
+    /// Where it came from.
+    pub source: Source,
+    /// The surface type as the file names it (IGES entity type, STEP surface kind).
+    pub kind: String,
+    /// Whether the file holds an analytic surface (plane, cylinder, ...) here.
+    pub analytic: bool,
+    /// Whether the face trims its surface.
+    pub trimmed: bool,
+}
+
+enum Doc {
+    Iges(Box<iges::Document>),
+    Step(Box<step::Document>),
+}
+
+/// An IGES or STEP document with its faces as patches.
+pub struct Model {
+    doc: Doc,
+    patches: Vec<Patch>,
+    skipped: Vec<(String, String)>,
+    unit: String,
+}
+
+/// Settings of [`Model::morph`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MorphOptions {
+    /// Seam-driven refinement before the morph (gap and angle tolerances).
+    pub refine: Option<SeamRefineOptions>,
+    /// PyGeM-style refinement: this many evenly spaced knots per direction on every patch.
+    pub uniform_knots: Option<usize>,
+    /// Make knots compatible across shared edges before the morph and make the two
+    /// sides of every shared edge identical after it (exact C0, and G1 for
+    /// non-rational patches).
+    pub repair: bool,
+}
+
+/// What [`Model::morph`] did.
+#[derive(Debug, Clone, Serialize)]
+pub struct MorphOutcome {
+    /// Control points of all patches before.
+    pub control_points_before: usize,
+    /// Control points of all patches after (refinement adds some).
+    pub control_points_after: usize,
+    /// Faces whose entities were rewritten.
+    pub faces_rewritten: usize,
+    /// Model-space curves whose entities were rewritten.
+    pub curves_rewritten: usize,
+    /// The seam refinement's report, when it ran.
+    pub refinement: Option<SeamRefinement>,
+    /// Seams before the morph.
+    pub seams_before: SeamReport,
+    /// Seams of the written document, read back.
+    pub seams_after: SeamReport,
+}
+
+/// Per-face summary of [`Info`].
+#[derive(Debug, Clone, Serialize)]
+pub struct PatchInfo {
+    /// Where the face came from.
+    pub source: String,
+    /// Surface type as the file names it.
+    pub kind: String,
+    /// Degree in u of the exact NURBS form.
+    pub u_degree: usize,
+    /// Degree in v.
+    pub v_degree: usize,
+    /// Poles in u.
+    pub n_u: usize,
+    /// Poles in v.
+    pub n_v: usize,
+    /// Whether it has weights.
+    pub rational: bool,
+    /// Whether the file holds an analytic surface.
+    pub analytic: bool,
+    /// Whether the face is trimmed.
+    pub trimmed: bool,
+    /// Whether the face is reversed.
+    pub reversed: bool,
+}
+
+/// What `cadmorph info` prints.
+#[derive(Debug, Clone, Serialize)]
+pub struct Info {
+    /// File format.
+    pub format: Format,
+    /// Length unit name.
+    pub unit: String,
+    /// Entity (IGES type number) or instance (STEP name) counts.
+    pub entity_counts: BTreeMap<String, usize>,
+    /// IGES entities kept verbatim without a typed view.
+    pub unknown_entities: usize,
+    /// The faces.
+    pub patches: Vec<PatchInfo>,
+    /// Faces that could not be converted, with the reason.
+    pub skipped: Vec<(String, String)>,
+}
+
+fn is_step(bytes: &[u8]) -> bool {
+    let start = bytes.iter().position(|b| !b.is_ascii_whitespace()).unwrap_or(bytes.len());
+    bytes[start..].starts_with(b"ISO-10303-21")
+}
+
+impl Model {
+    /// Reads an IGES or STEP document (told apart by the STEP header line) and converts
+    /// every face to a world-coordinate NURBS patch. Faces that cannot be converted are
+    /// kept in the file and listed by [`Info::skipped`].
+    ///
+    /// # Errors
+    ///
+    /// The reader's error, naming the position in the file.
+    pub fn from_bytes(bytes: &[u8]) -> Result<Self> {
+        if is_step(bytes) {
+            Self::from_step(step::Document::parse(bytes)?)
+        } else {
+            Self::from_iges(iges::Document::parse(bytes)?)
+        }
+    }
+
+    /// Reads a file; see [`from_bytes`](Self::from_bytes).
+    ///
+    /// # Errors
+    ///
+    /// I/O errors are reported as unsupported input with the reason.
+    pub fn open(path: &Path) -> std::result::Result<Self, Box<dyn std::error::Error + Send + Sync>> {
+        let bytes = std::fs::read(path)?;
+        Ok(Self::from_bytes(&bytes)?)
+    }
+
+    fn from_iges(doc: iges::Document) -> Result<Self> {
+        let mut patches = Vec::new();
+        let mut skipped = Vec::new();
+        for f in doc.faces() {
+            let source = Source::Iges { face: f.face.0, surface: f.surface.0 };
+            let kind = doc.entity(f.surface).map(|e| e.entity_type()).unwrap_or(0);
+            match doc.face_surface(&f) {
+                Ok(es) => patches.push(Patch {
+                    surface: es.surface,
+                    reversed: false,
+                    source,
+                    kind: format!("IGES {kind}"),
+                    analytic: kind != 128,
+                    trimmed: f.trimmed,
+                }),
+                Err(e) => skipped.push((source.to_string(), e.to_string())),
+            }
+        }
+        let unit = doc.global().unit_name();
+        Ok(Self { doc: Doc::Iges(Box::new(doc)), patches, skipped, unit })
+    }
+
+    fn from_step(doc: step::Document) -> Result<Self> {
+        let mut patches = Vec::new();
+        let mut skipped = Vec::new();
+        for f in doc.faces()? {
+            let source = Source::Step { face: f.id.0, surface: f.surface.0 };
+            let analytic = !matches!(f.kind, step::SurfaceKind::BSpline { .. });
+            let kind = match &f.kind {
+                step::SurfaceKind::BSpline { .. } => "B_SPLINE_SURFACE".to_string(),
+                other => format!("{other:?}"),
+            };
+            match doc.face_nurbs(&f) {
+                Ok(ws) => patches.push(Patch {
+                    surface: ws.surface,
+                    reversed: !f.same_sense,
+                    source,
+                    kind,
+                    analytic,
+                    trimmed: true,
+                }),
+                Err(e) => skipped.push((source.to_string(), e.to_string())),
+            }
+        }
+        let unit = doc.units()?.length.name;
+        Ok(Self { doc: Doc::Step(Box::new(doc)), patches, skipped, unit })
+    }
+
+    /// The file format.
+    pub fn format(&self) -> Format {
+        match self.doc {
+            Doc::Iges(_) => Format::Iges,
+            Doc::Step(_) => Format::Step,
+        }
+    }
+
+    /// The faces as patches, in file order.
+    pub fn patches(&self) -> &[Patch] {
+        &self.patches
+    }
+
+    /// The name of the length unit.
+    pub fn unit(&self) -> &str {
+        &self.unit
+    }
+
+    /// The diagonal of the box around all control points (the model size).
+    pub fn size(&self) -> f64 {
+        let pts = self.patches.iter().flat_map(|p| p.surface.control_points());
+        cadmorph_nurbs::Aabb::from_points(pts).map_or(0.0, |b| b.diagonal())
+    }
+
+    /// A summary: format, unit, entity counts, faces.
+    pub fn info(&self) -> Info {
+        let (entity_counts, unknown_entities) = match &self.doc {
+            Doc::Iges(d) => {
+                (d.counts_by_type().into_iter().map(|(k, v)| (k.to_string(), v)).collect(), d.unknown_entities().len())
+            }
+            Doc::Step(d) => (d.entity_counts(), 0),
+        };
+        let patches = self
+            .patches
+            .iter()
+            .map(|p| PatchInfo {
+                source: p.source.to_string(),
+                kind: p.kind.clone(),
+                u_degree: p.surface.u_degree(),
+                v_degree: p.surface.v_degree(),
+                n_u: p.surface.n_u(),
+                n_v: p.surface.n_v(),
+                rational: p.surface.is_rational(),
+                analytic: p.analytic,
+                trimmed: p.trimmed,
+                reversed: p.reversed,
+            })
+            .collect();
+        Info {
+            format: self.format(),
+            unit: self.unit.clone(),
+            entity_counts,
+            unknown_entities,
+            patches,
+            skipped: self.skipped.clone(),
+        }
+    }
+
+    /// Shared iso boundaries between the patches, found from geometry: sides that lie on
+    /// each other within `1e-3 ×` the model size (so defects up to that size are seen).
+    ///
+    /// Trimmed faces whose boundary is not an iso line of their surface are not paired
+    /// by this (their edges come from the file's topology in a later version).
+    pub fn edges(&self) -> Vec<SharedBoundary> {
+        let refs: Vec<&NurbsSurface> = self.patches.iter().map(|p| &p.surface).collect();
+        shared_boundaries(&refs, 1e-3 * self.size(), 64, 0.9)
+    }
+
+    /// Measures every shared edge with `samples` points.
+    pub fn seams(&self, samples: usize) -> SeamReport {
+        seams_of(&self.patches, &self.edges(), samples)
+    }
+
+    /// The document as bytes: the input, byte for byte, where nothing was edited.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        match &self.doc {
+            Doc::Iges(d) => d.write(),
+            Doc::Step(d) => d.write(),
+        }
+    }
+
+    /// Writes the document to `path` through a temporary file in the same folder and a
+    /// rename, so a failure never leaves half a file.
+    ///
+    /// # Errors
+    ///
+    /// I/O errors.
+    pub fn save(&self, path: &Path) -> std::io::Result<()> {
+        let bytes = self.to_bytes();
+        let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+        std::fs::write(&tmp, &bytes)?;
+        std::fs::rename(&tmp, path).inspect_err(|_| {
+            let _ = std::fs::remove_file(&tmp);
+        })
+    }
+
+    /// Morphs the model with `d`: optional refinement and repair (see [`MorphOptions`]),
+    /// then every control point of every face moves with `d` (weights kept), the
+    /// model-space trimming curves follow, analytic faces that move are first replaced
+    /// by their exact B-spline form, and only the entities that changed are rewritten.
+    /// A morph that moves nothing leaves the document byte-identical.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::NonFinite`] or [`Error::Folded`] before anything is changed;
+    /// [`Error::Unsupported`] for refinement or repair of STEP files (not yet written);
+    /// the file layers' errors.
+    pub fn morph(&mut self, d: &dyn Deformation, opts: &MorphOptions) -> Result<MorphOutcome> {
+        let edges = self.edges();
+        let seams_before = seams_of(&self.patches, &edges, 200);
+        let before: usize = self.patches.iter().map(|p| p.surface.control_points().len()).sum();
+        let mut patches: Vec<NurbsSurface> = self.patches.iter().map(|p| p.surface.clone()).collect();
+        let structural = opts.refine.is_some() || opts.uniform_knots.is_some() || opts.repair;
+        if structural && self.format() == Format::Step {
+            return Err(Error::Unsupported(
+                "refinement and repair are written for IGES so far; morph STEP files without them",
+            ));
+        }
+        if opts.repair {
+            make_compatible(&mut patches, &edges)?;
+        }
+        if let Some(n) = opts.uniform_knots {
+            for s in &mut patches {
+                refine_uniform(s, n);
+            }
+        }
+        let refinement = opts.refine.map(|r| refine_seams(&mut patches, &edges, d, &r));
+        // Move and check every control point before touching the document.
+        for (p, s) in self.patches.iter().zip(&mut patches) {
+            for (i, q) in s.control_points_mut().iter_mut().enumerate() {
+                if let Some(j) = d.jacobian(q) {
+                    let det = j.determinant();
+                    if det.is_nan() || det <= 0.0 {
+                        return Err(Error::Folded { face: p.source.to_string(), point: i, det });
+                    }
+                }
+                let moved = d.deform_point(q);
+                if !moved.coords.iter().all(|c| c.is_finite()) {
+                    return Err(Error::NonFinite { face: p.source.to_string(), point: i });
+                }
+                *q = moved;
+            }
+        }
+        if opts.repair {
+            for e in &edges {
+                if e.a.patch == e.b.patch {
+                    continue;
+                }
+                let (lo, hi) = (e.a.patch.min(e.b.patch), e.a.patch.max(e.b.patch));
+                let (left, right) = patches.split_at_mut(hi);
+                let (x, y) = (&mut left[lo], &mut right[0]);
+                let (a, b) = if e.a.patch == lo { (x, y) } else { (y, x) };
+                match repair(a, b, e, true) {
+                    Ok(_) | Err(cadmorph_seam::Error::PartialEdge { .. }) => {}
+                    Err(other) => return Err(other.into()),
+                }
+            }
+        }
+        let (faces_rewritten, curves_rewritten) = match &mut self.doc {
+            Doc::Iges(doc) => write_iges(doc, &self.patches, &patches, d)?,
+            Doc::Step(doc) => write_step(doc, &self.patches, &patches, d)?,
+        };
+        // Read the written document back: the report describes what was written.
+        let again = Model::from_bytes(&self.to_bytes())?;
+        self.doc = again.doc;
+        self.patches = again.patches;
+        self.skipped = again.skipped;
+        let after: usize = self.patches.iter().map(|p| p.surface.control_points().len()).sum();
+        Ok(MorphOutcome {
+            control_points_before: before,
+            control_points_after: after,
+            faces_rewritten,
+            curves_rewritten,
+            refinement,
+            seams_before,
+            seams_after: seams_of(&self.patches, &self.edges(), 200),
+        })
+    }
+}
+
+fn seams_of(patches: &[Patch], edges: &[SharedBoundary], samples: usize) -> SeamReport {
+    let faces: Vec<Face> = patches.iter().map(|p| Face { surface: &p.surface, reversed: p.reversed }).collect();
+    SeamReport::new(edges.iter().map(|e| measure_boundary(&faces, e, samples)).collect())
+}
+
+fn moved_by(d: &dyn Deformation, pts: &[Point3<f64>]) -> bool {
+    pts.iter().any(|p| d.deform_point(p) != *p)
+}
+
+fn write_iges(
+    doc: &mut iges::Document,
+    old: &[Patch],
+    new: &[NurbsSurface],
+    d: &dyn Deformation,
+) -> Result<(usize, usize)> {
+    let mut faces = 0;
+    for (p, s) in old.iter().zip(new) {
+        let Source::Iges { surface, .. } = p.source else { continue };
+        let id = iges::EntityId(surface);
+        if s == &p.surface {
+            continue;
+        }
+        if p.analytic {
+            // The exact B-spline form in the entity's own extent (the trims are rewritten
+            // to match), then moved.
+            if !moved_by(d, p.surface.control_points()) {
+                continue;
+            }
+            doc.replace_with_bspline(id)?;
+            let mut b = doc.surface(id)?.surface;
+            d.deform(b.control_points_mut());
+            doc.set_bspline_surface(id, &b)?;
+        } else {
+            doc.set_bspline_surface(id, s)?;
+        }
+        faces += 1;
+    }
+    // Model-space curves: independent 126s and the model-space 126 of every 142.
+    let mut curves: Vec<iges::EntityId> = Vec::new();
+    for e in doc.entities() {
+        match e.entity_type() {
+            126 if e.directory().status.subordinate == 0 && e.directory().status.entity_use != 5 => curves.push(e.id()),
+            142 => {
+                if let Ok(iges::View::CurveOnSurface(c)) = doc.view(e.id()) {
+                    if let Some(m) = c.model_curve {
+                        if doc.entity(m).map(|x| x.entity_type()) == Ok(126) {
+                            curves.push(m);
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    curves.sort_by_key(|c| c.0);
+    curves.dedup();
+    let mut n_curves = 0;
+    for id in curves {
+        let Ok(pieces) = doc.curve(id) else { continue };
+        let [c] = pieces.as_slice() else { continue };
+        let pts = d.deformed(c.control_points());
+        if doc.set_control_points(id, &pts, c.weights())? {
+            n_curves += 1;
+        }
+    }
+    Ok((faces, n_curves))
+}
+
+fn write_step(
+    doc: &mut step::Document,
+    old: &[Patch],
+    new: &[NurbsSurface],
+    d: &dyn Deformation,
+) -> Result<(usize, usize)> {
+    let changed = old.iter().zip(new).filter(|(p, s)| p.surface != **s).count();
+    if changed == 0 {
+        return Ok((0, 0));
+    }
+    for f in doc.faces()? {
+        let analytic = !matches!(f.kind, step::SurfaceKind::BSpline { .. });
+        if analytic {
+            if let Ok(ws) = doc.face_nurbs(&f) {
+                if moved_by(d, ws.surface.control_points()) {
+                    doc.replace_with_bspline(&f)?;
+                }
+            }
+        }
+    }
+    let report = doc.morph(&|p: &Point3<f64>| d.deform_point(p), step::EdgePolicy::default())?;
+    Ok((changed, report.edges))
+}
