@@ -1,15 +1,19 @@
 //! The `cadmorph` command-line tool.
 //!
-//! Exit codes: 0 success, 1 runtime failure (unreadable or malformed input),
-//! 2 bad command line (clap's own code).
+//! Exit codes: 0 success, 1 runtime failure (unreadable or malformed input, a morph that
+//! folds space or produces NaN: nothing is written then), 2 bad command line.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
+use cadmorph::model::{Model, MorphOptions};
+use cadmorph::morph::{Deformation, Parameters};
 use cadmorph::nurbs::Surface;
 use cadmorph::refdata::read_faces;
-use clap::{Parser, Subcommand};
+use cadmorph::seam::SeamRefineOptions;
+use clap::{Args, Parser, Subcommand};
 
 #[derive(Parser)]
 #[command(name = "cadmorph", version, about = "CAD/NURBS kernel and IGES/STEP processor for shape parameterisation")]
@@ -18,10 +22,99 @@ struct Cli {
     command: Command,
 }
 
+#[derive(Args)]
+#[group(required = true, multiple = false)]
+struct MorphSource {
+    /// FFD parameters (PyGeM .prm or TOML).
+    #[arg(long)]
+    ffd: Option<PathBuf>,
+    /// RBF parameters (PyGeM .prm or TOML).
+    #[arg(long)]
+    rbf: Option<PathBuf>,
+    /// IDW parameters (PyGeM .prm or TOML).
+    #[arg(long)]
+    idw: Option<PathBuf>,
+}
+
 #[derive(Subcommand)]
 enum Command {
+    /// Units, entity counts and faces of an IGES or STEP file.
+    Info {
+        /// An IGES or STEP file.
+        file: PathBuf,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Points and normals of every face on an n × n parameter grid.
+    Sample {
+        /// An IGES or STEP file.
+        file: PathBuf,
+        /// Grid points per direction.
+        #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(2..=1000))]
+        grid: u32,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// C0 gap, G1 angle and C1 mismatch along every shared edge.
+    Seams {
+        /// An IGES or STEP file.
+        file: PathBuf,
+        /// Samples per edge.
+        #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u32).range(2..=100_000))]
+        samples: u32,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Morph every face with an FFD, RBF or IDW, keep the seams, write the result.
+    Morph {
+        /// The input IGES or STEP file.
+        input: PathBuf,
+        /// The output file (written through a temporary file and a rename).
+        #[arg(short, long)]
+        output: PathBuf,
+        #[command(flatten)]
+        source: MorphSource,
+        /// Refine so that the seams stay within this gap (model units) after the morph.
+        #[arg(long)]
+        refine_tol: Option<f64>,
+        /// With --refine-tol: the largest normal angle across a seam, degrees.
+        #[arg(long, default_value_t = 0.01, requires = "refine_tol")]
+        angle_tol: f64,
+        /// PyGeM-style refinement instead: this many evenly spaced knots per direction.
+        #[arg(long, conflicts_with = "refine_tol")]
+        uniform_knots: Option<usize>,
+        /// Make knots compatible across seams and make both sides identical after the morph.
+        #[arg(long)]
+        repair: bool,
+        /// Write the seam report (before and after) as JSON here.
+        #[arg(long)]
+        report: Option<PathBuf>,
+        /// Print the outcome as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Insert knots: evenly spaced, or where a morph needs them to keep the seams.
+    Refine {
+        /// The input IGES file.
+        input: PathBuf,
+        /// The output file.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// This many evenly spaced knots per direction on every face.
+        #[arg(long, conflicts_with_all = ["for_params", "tol"])]
+        knots: Option<usize>,
+        /// Refine for this morph (FFD/RBF/IDW parameter file) ...
+        #[arg(long = "for", requires = "tol")]
+        for_params: Option<PathBuf>,
+        /// ... so that the seams stay within this gap after it.
+        #[arg(long)]
+        tol: Option<f64>,
+    },
     /// Evaluate the B-spline faces of an OCCT reference file (`samples/*.ref.json`) on a
-    /// grid, and compare cadmorph's evaluation with OCCT's samples.
+    /// grid and compare with OCCT's own evaluation.
     Eval {
         /// A `*.ref.json` file.
         file: PathBuf,
@@ -37,6 +130,158 @@ enum Command {
     },
 }
 
+fn open(path: &Path) -> Result<Model> {
+    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+    Model::from_bytes(&bytes).with_context(|| format!("reading {}", path.display()))
+}
+
+fn deformation(path: &Path, expect: &str) -> Result<Box<dyn Deformation + Send>> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let is_toml = path.extension().is_some_and(|e| e == "toml");
+    let params = if is_toml { Parameters::from_toml(&text) } else { Parameters::from_prm(&text) }
+        .with_context(|| format!("reading {}", path.display()))?;
+    let kind = match params {
+        Parameters::Ffd(_) => "ffd",
+        Parameters::Rbf(_) => "rbf",
+        Parameters::Idw(_) => "idw",
+    };
+    if kind != expect {
+        bail!("{} holds {kind} parameters, but --{expect} was given", path.display());
+    }
+    params.build().with_context(|| format!("building the morph of {}", path.display()))
+}
+
+fn info(file: &Path, json: bool) -> Result<()> {
+    let m = open(file)?;
+    let i = m.info();
+    if json {
+        println!("{}", serde_json::to_string_pretty(&i)?);
+        return Ok(());
+    }
+    println!("{}: {:?}, unit {}", file.display(), i.format, i.unit);
+    let counts: Vec<String> = i.entity_counts.iter().map(|(k, v)| format!("{k}: {v}")).collect();
+    println!("entities: {}", counts.join(", "));
+    if i.unknown_entities > 0 {
+        println!("kept verbatim without a typed view: {}", i.unknown_entities);
+    }
+    println!(
+        "{:<28} {:<22} {:>7} {:>9} {:>9} {:>8} {:>8}",
+        "face", "surface", "degree", "poles", "rational", "trimmed", "analytic"
+    );
+    for p in &i.patches {
+        println!(
+            "{:<28} {:<22} {:>7} {:>9} {:>9} {:>8} {:>8}",
+            p.source,
+            p.kind,
+            format!("{}x{}", p.u_degree, p.v_degree),
+            format!("{}x{}", p.n_u, p.n_v),
+            p.rational,
+            p.trimmed,
+            p.analytic
+        );
+    }
+    for (face, why) in &i.skipped {
+        println!("not converted: {face}: {why}");
+    }
+    Ok(())
+}
+
+fn sample(file: &Path, grid: usize, json: bool) -> Result<()> {
+    let m = open(file)?;
+    let mut out = Vec::new();
+    for p in m.patches() {
+        let s = &p.surface;
+        let (ud, vd) = s.domain();
+        let mut rows = Vec::new();
+        for i in 0..grid {
+            for j in 0..grid {
+                let u = ud.start() + (ud.end() - ud.start()) * i as f64 / (grid - 1) as f64;
+                let v = vd.start() + (vd.end() - vd.start()) * j as f64 / (grid - 1) as f64;
+                let q = s.eval(u, v);
+                let n = s.normal(u, v).map(|n| if p.reversed { -n.into_inner() } else { n.into_inner() });
+                rows.push((u, v, [q.x, q.y, q.z], n.map(|n| [n.x, n.y, n.z])));
+            }
+        }
+        if json {
+            out.push(serde_json::json!({
+                "face": p.source.to_string(),
+                "grid": rows.iter().map(|(u, v, q, n)| serde_json::json!({"u": u, "v": v, "p": q, "n": n})).collect::<Vec<_>>(),
+            }));
+        } else {
+            println!("face {} ({}):", p.source, p.kind);
+            println!("{:>10} {:>10} {:>14} {:>14} {:>14} {:>9} {:>9} {:>9}", "u", "v", "x", "y", "z", "nx", "ny", "nz");
+            for (u, v, q, n) in &rows {
+                let n = n.map_or("    (degenerate point)".to_string(), |n| {
+                    format!("{:>9.5} {:>9.5} {:>9.5}", n[0], n[1], n[2])
+                });
+                println!("{u:>10.5} {v:>10.5} {:>14.6} {:>14.6} {:>14.6} {n}", q[0], q[1], q[2]);
+            }
+        }
+    }
+    if json {
+        println!("{}", serde_json::to_string_pretty(&out)?);
+    }
+    Ok(())
+}
+
+fn seams(file: &Path, samples: usize, json: bool) -> Result<()> {
+    let m = open(file)?;
+    let r = m.seams(samples);
+    if json {
+        println!("{}", serde_json::to_string_pretty(&r)?);
+    } else {
+        println!("{} ({}):", file.display(), m.unit());
+        print!("{}", r.table());
+    }
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn morph(
+    input: &Path,
+    output: &Path,
+    d: &dyn Deformation,
+    opts: MorphOptions,
+    report: Option<&Path>,
+    json: bool,
+) -> Result<()> {
+    let start = Instant::now();
+    let mut m = open(input)?;
+    let outcome = m.morph(d, &opts).with_context(|| format!("morphing {}", input.display()))?;
+    m.save(output).with_context(|| format!("writing {}", output.display()))?;
+    let elapsed = start.elapsed().as_secs_f64();
+    if let Some(r) = report {
+        let text = serde_json::to_string_pretty(&outcome)?;
+        std::fs::write(r, text).with_context(|| format!("writing {}", r.display()))?;
+    }
+    if json {
+        println!("{}", serde_json::to_string_pretty(&outcome)?);
+        return Ok(());
+    }
+    println!(
+        "{} -> {} in {:.1} ms: {} faces and {} curves rewritten, control points {} -> {}",
+        input.display(),
+        output.display(),
+        elapsed * 1e3,
+        outcome.faces_rewritten,
+        outcome.curves_rewritten,
+        outcome.control_points_before,
+        outcome.control_points_after
+    );
+    if let Some(r) = &outcome.refinement {
+        println!(
+            "seam refinement: {} rounds, {}; max gap {:.3e}, max angle {:.4} deg",
+            r.rounds,
+            if r.converged { "converged" } else { "NOT converged" },
+            r.max_gap,
+            r.max_angle_deg
+        );
+    }
+    println!("seams before ({}):\n{}", m.unit(), outcome.seams_before.table());
+    println!("seams after, read back from the written file:\n{}", outcome.seams_after.table());
+    Ok(())
+}
+
 fn eval(file: &PathBuf, grid: usize, only: Option<usize>, json: bool) -> Result<()> {
     let text = std::fs::read_to_string(file).with_context(|| format!("reading {}", file.display()))?;
     let faces = read_faces(&text).with_context(|| format!("reading {}", file.display()))?;
@@ -44,7 +289,7 @@ fn eval(file: &PathBuf, grid: usize, only: Option<usize>, json: bool) -> Result<
     for f in faces.iter().filter(|f| only.is_none_or(|i| i == f.index)) {
         let Some(s) = &f.surface else {
             if !json {
-                println!("face {}: {} (analytic; converted once the readers land)\n", f.index, f.class);
+                println!("face {}: {} (analytic: see `cadmorph sample` on the data file)\n", f.index, f.class);
             }
             continue;
         };
@@ -107,12 +352,59 @@ fn eval(file: &PathBuf, grid: usize, only: Option<usize>, json: bool) -> Result<
     Ok(())
 }
 
+fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Info { file, json } => info(&file, json),
+        Command::Sample { file, grid, json } => sample(&file, grid as usize, json),
+        Command::Seams { file, samples, json } => seams(&file, samples as usize, json),
+        Command::Morph { input, output, source, refine_tol, angle_tol, uniform_knots, repair, report, json } => {
+            let (path, kind) = match (&source.ffd, &source.rbf, &source.idw) {
+                (Some(p), _, _) => (p, "ffd"),
+                (_, Some(p), _) => (p, "rbf"),
+                (_, _, Some(p)) => (p, "idw"),
+                _ => bail!("one of --ffd, --rbf, --idw is needed"),
+            };
+            let d = deformation(path, kind)?;
+            let opts = MorphOptions {
+                refine: refine_tol.map(|t| SeamRefineOptions::new(t, angle_tol)),
+                uniform_knots,
+                repair,
+            };
+            morph(&input, &output, d.as_ref(), opts, report.as_deref(), json)
+        }
+        Command::Refine { input, output, knots, for_params, tol } => {
+            let mut m = open(&input)?;
+            let outcome = match (knots, for_params, tol) {
+                (Some(n), _, _) => m.refine(&MorphOptions { uniform_knots: Some(n), ..Default::default() }, None)?,
+                (None, Some(p), Some(t)) => {
+                    let d = deformation(&p, detect_kind(&p)?)?;
+                    let opts = MorphOptions { refine: Some(SeamRefineOptions::new(t, 0.01)), ..Default::default() };
+                    m.refine(&opts, Some(d.as_ref()))?
+                }
+                _ => bail!("give --knots N, or --for PARAMS with --tol T"),
+            };
+            m.save(&output).with_context(|| format!("writing {}", output.display()))?;
+            println!("{} -> {}: control points {} -> {}", input.display(), output.display(), outcome.0, outcome.1);
+            Ok(())
+        }
+        Command::Eval { file, grid, face, json } => eval(&file, grid as usize, face, json),
+    }
+}
+
+fn detect_kind(path: &Path) -> Result<&'static str> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let is_toml = path.extension().is_some_and(|e| e == "toml");
+    let params = if is_toml { Parameters::from_toml(&text) } else { Parameters::from_prm(&text) }
+        .with_context(|| format!("reading {}", path.display()))?;
+    Ok(match params {
+        Parameters::Ffd(_) => "ffd",
+        Parameters::Rbf(_) => "rbf",
+        Parameters::Idw(_) => "idw",
+    })
+}
+
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let result = match &cli.command {
-        Command::Eval { file, grid, face, json } => eval(file, *grid as usize, *face, *json),
-    };
-    match result {
+    match run(Cli::parse()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("cadmorph: {e:#}");

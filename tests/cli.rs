@@ -42,3 +42,67 @@ fn missing_and_malformed_files_fail_with_the_reason() {
     let out = cadmorph(&["eval", "samples/hull3.igs.ref.json", "--grid", "1"]);
     assert_eq!(out.status.code(), Some(2), "clap rejects a grid of 1");
 }
+
+#[test]
+fn info_lists_faces_of_iges_and_step() {
+    for (name, faces) in [("samples/mixed_solid.igs", 14), ("samples/mixed_solid.stp", 14), ("samples/hull3.stp", 3)] {
+        let out = cadmorph(&["info", name, "--json"]);
+        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        let info: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(info["patches"].as_array().unwrap().len(), faces, "{name}");
+    }
+}
+
+#[test]
+fn sample_gives_grid_points_per_face() {
+    let out = cadmorph(&["sample", "samples/hull3.igs", "--grid", "3", "--json"]);
+    assert!(out.status.success());
+    let faces: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let faces = faces.as_array().unwrap();
+    assert_eq!(faces.len(), 3);
+    assert_eq!(faces[0]["grid"].as_array().unwrap().len(), 9);
+}
+
+#[test]
+fn seams_of_the_defect_hull_match_occt() {
+    let out = cadmorph(&["seams", "samples/hull3_defect.igs", "--json"]);
+    assert!(out.status.success());
+    let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let gap = r["max_gap_closest"].as_f64().unwrap();
+    // OCCT's independent measurement (samples/hull3_defect.igs.check.json): 2.4442e-3 m.
+    assert!((gap - 2.4442325e-3).abs() < 0.01 * 2.4442325e-3, "{gap}");
+}
+
+#[test]
+fn morph_writes_a_file_and_reports_seams() {
+    let dir = std::env::temp_dir().join(format!("cadmorph-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out_file = dir.join("hull3_morphed.igs");
+    let report = dir.join("report.json");
+    let out = cadmorph(&[
+        "morph",
+        "samples/hull3.igs",
+        "--ffd",
+        "samples/prm/bow_dome.prm",
+        "--refine-tol",
+        "1.45e-5",
+        "-o",
+        out_file.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert!(r["seams_after"]["max_gap_closest"].as_f64().unwrap() <= 1.45e-5);
+    assert!(r["seams_after"]["max_g1_angle_deg"].as_f64().unwrap() <= 0.01);
+    // The written file reads back, and its seams are what the report says.
+    let again = cadmorph(&["seams", out_file.to_str().unwrap(), "--json"]);
+    assert!(again.status.success());
+    // A parameter file of the wrong kind is refused and nothing is written.
+    let bad = dir.join("never.igs");
+    let out =
+        cadmorph(&["morph", "samples/hull3.igs", "--rbf", "samples/prm/bow_dome.prm", "-o", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("holds ffd parameters"));
+    assert!(!bad.exists());
+}

@@ -336,6 +336,47 @@ impl Model {
         })
     }
 
+    /// Inserts knots without moving anything: evenly spaced (`opts.uniform_knots`) or
+    /// where the morph `d` needs them to keep the seams (`opts.refine`), and rewrites the
+    /// refined B-spline faces. The geometry does not change. Returns the control points
+    /// before and after.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Unsupported`] for STEP files and for seam refinement without a morph;
+    /// the file layer's errors.
+    pub fn refine(&mut self, opts: &MorphOptions, d: Option<&dyn Deformation>) -> Result<(usize, usize)> {
+        if self.format() != Format::Iges {
+            return Err(Error::Unsupported("refinement is written for IGES so far"));
+        }
+        let size = self.size();
+        let before: usize = self.patches.iter().map(|p| p.surface.control_points().len()).sum();
+        let mut patches: Vec<NurbsSurface> = self.patches.iter().map(|p| p.surface.clone()).collect();
+        if let Some(n) = opts.uniform_knots {
+            for (s, p) in patches.iter_mut().zip(&self.patches) {
+                if !p.analytic {
+                    refine_uniform(s, n);
+                }
+            }
+        }
+        if let Some(r) = opts.refine {
+            let d = d.ok_or(Error::Unsupported("seam refinement needs the morph it refines for"))?;
+            let edges = shared_boundaries(&patches.iter().collect::<Vec<_>>(), 1e-3 * size, 64, 0.9);
+            refine_seams(&mut patches, &edges, d, &r);
+        }
+        let Doc::Iges(doc) = &mut self.doc else { unreachable!("checked above") };
+        for (p, s) in self.patches.iter().zip(&patches) {
+            if let (Source::Iges { surface, .. }, false) = (p.source, p.analytic) {
+                if s != &p.surface {
+                    doc.set_bspline_surface(iges::EntityId(surface), s)?;
+                }
+            }
+        }
+        let again = Model::from_bytes(&self.to_bytes())?;
+        *self = again;
+        Ok((before, self.patches.iter().map(|p| p.surface.control_points().len()).sum()))
+    }
+
     /// Morphs the model with `d`: optional refinement and repair (see [`MorphOptions`]),
     /// then every control point of every face moves with `d` (weights kept), the
     /// model-space trimming curves follow, analytic faces that move are first replaced
