@@ -385,20 +385,13 @@ impl Model {
     ///
     /// # Errors
     ///
-    /// [`Error::NonFinite`] or [`Error::Folded`] before anything is changed;
-    /// [`Error::Unsupported`] for refinement or repair of STEP files (not yet written);
-    /// the file layers' errors.
+    /// [`Error::NonFinite`] or [`Error::Folded`] before anything is changed; the file
+    /// layers' errors.
     pub fn morph(&mut self, d: &dyn Deformation, opts: &MorphOptions) -> Result<MorphOutcome> {
         let edges = self.edges();
         let seams_before = seams_of(&self.patches, &edges, 200);
         let before: usize = self.patches.iter().map(|p| p.surface.control_points().len()).sum();
         let mut patches: Vec<NurbsSurface> = self.patches.iter().map(|p| p.surface.clone()).collect();
-        let structural = opts.refine.is_some() || opts.uniform_knots.is_some() || opts.repair;
-        if structural && self.format() == Format::Step {
-            return Err(Error::Unsupported(
-                "refinement and repair are written for IGES so far; morph STEP files without them",
-            ));
-        }
         if opts.repair {
             make_compatible(&mut patches, &edges)?;
         }
@@ -408,6 +401,7 @@ impl Model {
             }
         }
         let refinement = opts.refine.map(|r| refine_seams(&mut patches, &edges, d, &r));
+        let refined = patches.clone();
         // Move and check every control point before touching the document.
         for (p, s) in self.patches.iter().zip(&mut patches) {
             for (i, q) in s.control_points_mut().iter_mut().enumerate() {
@@ -441,7 +435,7 @@ impl Model {
         }
         let (faces_rewritten, curves_rewritten) = match &mut self.doc {
             Doc::Iges(doc) => write_iges(doc, &self.patches, &patches, d)?,
-            Doc::Step(doc) => write_step(doc, &self.patches, &patches, d)?,
+            Doc::Step(doc) => write_step(doc, &self.patches, &refined, &patches, d, opts.repair)?,
         };
         // Read the written document back: the report describes what was written.
         let again = Model::from_bytes(&self.to_bytes())?;
@@ -529,26 +523,55 @@ fn write_iges(
     Ok((faces, n_curves))
 }
 
+/// STEP: refined faces are rewritten first (unmoved), analytic faces that move become
+/// B-splines, then the document's own morph moves every control point once and
+/// rebuilds the edges on the morphed faces; repaired faces are written last.
 fn write_step(
     doc: &mut step::Document,
     old: &[Patch],
+    refined: &[NurbsSurface],
     new: &[NurbsSurface],
     d: &dyn Deformation,
+    repaired: bool,
 ) -> Result<(usize, usize)> {
     let changed = old.iter().zip(new).filter(|(p, s)| p.surface != **s).count();
     if changed == 0 {
         return Ok((0, 0));
     }
-    for f in doc.faces()? {
+    let faces = doc.faces()?;
+    let face_of = |p: &Patch| match p.source {
+        Source::Step { face, .. } => faces.iter().find(|f| f.id.0 == face).cloned(),
+        Source::Iges { .. } => None,
+    };
+    for (p, r) in old.iter().zip(refined) {
+        if !p.analytic && r != &p.surface {
+            if let Some(f) = face_of(p) {
+                doc.set_face_surface(&f, r)?;
+            }
+        }
+    }
+    for f in &faces {
         let analytic = !matches!(f.kind, step::SurfaceKind::BSpline { .. });
         if analytic {
-            if let Ok(ws) = doc.face_nurbs(&f) {
+            if let Ok(ws) = doc.face_nurbs(f) {
                 if moved_by(d, ws.surface.control_points()) {
-                    doc.replace_with_bspline(&f)?;
+                    doc.replace_with_bspline(f)?;
                 }
             }
         }
     }
     let report = doc.morph(&|p: &Point3<f64>| d.deform_point(p), step::EdgePolicy::default())?;
+    if repaired {
+        let faces = doc.faces()?;
+        for (p, s) in old.iter().zip(new) {
+            if p.analytic {
+                continue;
+            }
+            let Source::Step { face, .. } = p.source else { continue };
+            if let Some(f) = faces.iter().find(|f| f.id.0 == face) {
+                doc.set_face_surface(f, s)?;
+            }
+        }
+    }
     Ok((changed, report.edges))
 }

@@ -52,44 +52,48 @@ fn zero_morph_writes_the_input_unchanged() {
 #[test]
 fn bow_dome_with_seam_refinement_meets_the_target() {
     let ffd = bow_dome();
-    let mut plain = open("hull3.igs");
-    let none = plain.morph(&ffd, &MorphOptions::default()).unwrap();
-    let mut refined = open("hull3.igs");
-    let tol = 1e-7 * HULL_LENGTH;
-    let opts = MorphOptions { refine: Some(SeamRefineOptions::new(tol, 0.01)), ..Default::default() };
-    let r = refined.morph(&ffd, &opts).unwrap();
-    let mut uniform = open("hull3.igs");
-    let u = uniform.morph(&ffd, &MorphOptions { uniform_knots: Some(30), ..Default::default() }).unwrap();
-    for (what, o) in [("none", &none), ("refined", &r), ("uniform 30", &u)] {
-        println!(
-            "{what}: +{} control points, max gap {:.3e}, max G1 {:.4} deg",
-            o.control_points_after - o.control_points_before,
-            o.seams_after.max_gap_closest,
-            o.seams_after.max_g1_angle_deg
+    for name in ["hull3.igs", "hull3.stp"] {
+        let mut plain = open(name);
+        let none = plain.morph(&ffd, &MorphOptions::default()).unwrap();
+        let mut refined = open(name);
+        let tol = 1e-7 * HULL_LENGTH;
+        let opts = MorphOptions { refine: Some(SeamRefineOptions::new(tol, 0.01)), ..Default::default() };
+        let r = refined.morph(&ffd, &opts).unwrap();
+        let mut uniform = open(name);
+        let u = uniform.morph(&ffd, &MorphOptions { uniform_knots: Some(30), ..Default::default() }).unwrap();
+        for (what, o) in [("none", &none), ("refined", &r), ("uniform 30", &u)] {
+            println!(
+                "{name} {what}: +{} control points, max gap {:.3e}, max G1 {:.4} deg",
+                o.control_points_after - o.control_points_before,
+                o.seams_after.max_gap_closest,
+                o.seams_after.max_g1_angle_deg
+            );
+        }
+        assert_eq!(none.faces_rewritten, 2, "{name}: the bow dome reaches the mid and bow patches, not the stern");
+        assert!(none.seams_after.max_g1_angle_deg > 0.01, "{name}: without refinement the seams kink");
+        assert!(r.seams_after.max_gap_closest <= tol, "{name}: {}", r.seams_after.max_gap_closest);
+        assert!(r.seams_after.max_g1_angle_deg <= 0.01, "{name}: {}", r.seams_after.max_g1_angle_deg);
+        assert!(
+            r.control_points_after < u.control_points_after,
+            "{name}: {} vs {}",
+            r.control_points_after,
+            u.control_points_after
         );
     }
-    assert_eq!(none.faces_rewritten, 2, "the bow dome reaches the mid and bow patches, not the stern");
-    assert!(none.seams_after.max_g1_angle_deg > 0.01, "without refinement the seams kink");
-    assert!(r.seams_after.max_gap_closest <= tol, "{}", r.seams_after.max_gap_closest);
-    assert!(r.seams_after.max_g1_angle_deg <= 0.01, "{}", r.seams_after.max_g1_angle_deg);
-    assert!(
-        r.control_points_after < u.control_points_after,
-        "{} vs {}",
-        r.control_points_after,
-        u.control_points_after
-    );
 }
 
 #[test]
 fn repair_closes_the_defect_after_a_morph() {
     let ffd = bow_dome();
-    let mut m = open("hull3_defect.igs");
-    let o = m.morph(&ffd, &MorphOptions { repair: true, ..Default::default() }).unwrap();
-    println!("{}", o.seams_after.table());
-    // IGES keeps about 9 decimals of metres (OCCT's writer does the same): 1e-12 × L
-    // is below what the text holds, so the read-back gap is held to 1e-9 m.
-    assert!(o.seams_after.max_gap_matched <= 1e-9, "{}", o.seams_after.max_gap_matched);
-    assert!(o.seams_before.max_gap_closest > 2e-3);
+    for name in ["hull3_defect.igs", "hull3_defect.stp"] {
+        let mut m = open(name);
+        let o = m.morph(&ffd, &MorphOptions { repair: true, ..Default::default() }).unwrap();
+        println!("{name}:\n{}", o.seams_after.table());
+        // The file keeps about 9 (IGES) or 12 (STEP) digits of metres: 1e-12 × L is below
+        // what IGES text holds, so the read-back gap is held to 1e-9 m.
+        assert!(o.seams_after.max_gap_matched <= 1e-9, "{name}: {}", o.seams_after.max_gap_matched);
+        assert!(o.seams_before.max_gap_closest > 2e-3);
+    }
 }
 
 #[test]
@@ -133,7 +137,11 @@ fn occt_reads_morphed_files() {
             "hull3.igs",
             MorphOptions { refine: Some(SeamRefineOptions::new(1e-7 * HULL_LENGTH, 0.01)), ..Default::default() },
         ),
-        ("hull3.stp", MorphOptions::default()),
+        (
+            "hull3.stp",
+            MorphOptions { refine: Some(SeamRefineOptions::new(1e-7 * HULL_LENGTH, 0.01)), ..Default::default() },
+        ),
+        ("hull3_defect.stp", MorphOptions { repair: true, ..Default::default() }),
         ("hull3_defect.igs", MorphOptions { repair: true, ..Default::default() }),
     ] {
         let mut m = open(name);

@@ -198,6 +198,29 @@ impl Document {
         Ok(ids)
     }
 
+    /// Rewrites the surface of `face` as the B-spline surface `s`, given in world
+    /// coordinates and model units (the face's placement is undone here), with new
+    /// control-point instances. Meant for refined surfaces (knot insertion, degree
+    /// elevation): their parameterisation is the old one, so the face's pcurves stay
+    /// valid and are kept. Returns the new control point ids (row-major).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::NoSuchInstance`]; [`Error::Edit`] for a singular placement or
+    /// non-finite values.
+    pub fn set_face_surface(&mut self, face: &Face, s: &NurbsSurface) -> Result<Vec<EntityId>> {
+        let k = self.index.get(face.surface.0).ok_or(Error::NoSuchInstance(face.surface))?;
+        let inverse = face
+            .transform
+            .try_inverse()
+            .ok_or_else(|| Error::Edit { at: self.position_of(k, 0), reason: "singular face placement".into() })?;
+        let local = s.transformed(&inverse);
+        if local.control_points().iter().any(|p| !p.coords.iter().all(|c| c.is_finite())) {
+            return Err(Error::Edit { at: self.position_of(k, 0), reason: "non-finite control point".into() });
+        }
+        self.write_bspline_surface(face.surface, &local)
+    }
+
     /// Rewrites instance `#id` as the (rational) B-spline surface `s` with new points.
     fn write_bspline_surface(&mut self, id: EntityId, s: &NurbsSurface) -> Result<Vec<EntityId>> {
         let mut ids = Vec::with_capacity(s.control_points().len());
