@@ -3,7 +3,7 @@
 //! written files.
 
 use cadmorph_model::{Model, MorphOptions};
-use cadmorph_morph::math::{Point3, Vector3};
+use cadmorph_morph::math::Vector3;
 use cadmorph_morph::{Affine, Ffd};
 use cadmorph_nurbs::Surface;
 use cadmorph_seam::SeamRefineOptions;
@@ -96,6 +96,18 @@ fn repair_closes_the_defect_after_a_morph() {
     }
 }
 
+/// A non-affine 3×3×3 FFD over the whole model's box.
+fn solid_ffd(m: &Model) -> Ffd {
+    let size = m.size();
+    let b = cadmorph_nurbs::Aabb::from_points(m.patches().iter().flat_map(|p| p.surface.control_points())).unwrap();
+    let origin = b.min - Vector3::repeat(0.05 * size);
+    let mut ffd =
+        Ffd::try_new([3, 3, 3], origin, (b.max - b.min) + Vector3::repeat(0.1 * size), Vector3::zeros()).unwrap();
+    ffd.mu_mut().set(1, 1, 2, [0.05, 0.04, 0.08]);
+    ffd.mu_mut().set(2, 1, 1, [0.06, -0.03, 0.02]);
+    ffd
+}
+
 #[test]
 fn every_face_of_the_mixed_solid_moves() {
     // A non-affine FFD over the whole solid: planes and cylinders must move too.
@@ -122,7 +134,6 @@ fn every_face_of_the_mixed_solid_moves() {
             assert!((moved - mid).norm() > 1e-6 * size, "{name} face {i}: the FFD does not move it");
             assert!(p.surface != *s, "{name} face {i} ({}) was left behind", p.kind);
         }
-        let _ = Point3::<f64>::origin();
     }
 }
 
@@ -152,5 +163,16 @@ fn occt_reads_morphed_files() {
         assert_eq!(code, 0, "{name}: {json}");
         assert_eq!(json["valid"], true, "{name}: {json}");
         assert_eq!(json["n_faces"].as_u64(), Some(3), "{name}: {json}");
+    }
+    for name in ["mixed_solid.igs", "mixed_solid.stp", "mixed_solid_brep.igs"] {
+        let mut m = open(name);
+        let ffd = solid_ffd(&m);
+        m.morph(&ffd, &MorphOptions::default()).unwrap();
+        let out = dir.join(name);
+        m.save(&out).unwrap();
+        let (code, json) = cadmorph_testkit::harness::validate(&out, None);
+        assert_eq!(code, 0, "{name}: {json}");
+        assert_eq!(json["transfer_ok"], true, "{name}: {json}");
+        assert_eq!(json["valid"], true, "{name}: OCCT finds the morphed solid invalid: {json}");
     }
 }
