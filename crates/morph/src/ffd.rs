@@ -350,45 +350,88 @@ impl Ffd {
         self.frame * contract(&self.mu, &bx, &by, &bz)
     }
 
-    /// Deform `points` on the calling thread, eight at a time so that the compiler
-    /// vectorises the lattice sum.
+    /// Deform `points` on the calling thread, eight at a time: the box mapping, the
+    /// Bernstein values and the lattice sum all run across the eight lanes, inside one
+    /// `pulp` dispatch (AVX2/FMA when the CPU has them).
     fn deform_serial(&self, points: &mut [Point3<f64>]) {
         let [l, m, n] = self.mu.shape;
-        let mut bx = vec![[0.0; LANES]; l];
-        let mut by = vec![[0.0; LANES]; m];
-        let mut bz = vec![[0.0; LANES]; n];
-        let mut scratch = vec![0.0; l.max(m).max(n)];
-        for block in points.chunks_mut(LANES) {
-            let mut mask = [false; LANES];
-            let mut any = false;
-            for (lane, p) in block.iter().enumerate() {
-                if let Some(u) = self.reference(p) {
-                    mask[lane] = true;
-                    any = true;
-                    bernstein(l - 1, u.x, &mut scratch[..l]);
-                    for i in 0..l {
-                        bx[i][lane] = scratch[i];
-                    }
-                    bernstein(m - 1, u.y, &mut scratch[..m]);
-                    for i in 0..m {
-                        by[i][lane] = scratch[i];
-                    }
-                    bernstein(n - 1, u.z, &mut scratch[..n]);
-                    for i in 0..n {
-                        bz[i][lane] = scratch[i];
-                    }
-                }
+        if l.max(m).max(n) > 33 {
+            // Beyond the binomial table: point by point.
+            for p in points {
+                *p = self.deform_point(p);
             }
-            if !any {
+            return;
+        }
+        pulp::Arch::new().dispatch(DeformLanes { ffd: self, points })
+    }
+}
+
+/// The whole FFD of a slice, compiled inside `pulp`'s target-feature function.
+struct DeformLanes<'a> {
+    ffd: &'a Ffd,
+    points: &'a mut [Point3<f64>],
+}
+
+impl pulp::WithSimd for DeformLanes<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let DeformLanes { ffd, points } = self;
+        let [l, m, n] = ffd.mu.shape;
+        let mut bx = [[0.0; LANES]; 33];
+        let mut by = [[0.0; LANES]; 33];
+        let mut bz = [[0.0; LANES]; 33];
+        let (o, inv, t) = (ffd.box_origin, ffd.inverse, ffd.face_tol);
+        for block in points.chunks_mut(LANES) {
+            let mut u = [[0.0; LANES]; 3];
+            let mut inside = [false; LANES];
+            for (lane, p) in block.iter().enumerate() {
+                let d = [p.x - o.x, p.y - o.y, p.z - o.z];
+                let mut ok = true;
+                for a in 0..3 {
+                    let v = inv[(a, 0)] * d[0] + inv[(a, 1)] * d[1] + inv[(a, 2)] * d[2];
+                    ok &= v >= -t && v <= 1.0 + t;
+                    u[a][lane] = v.clamp(0.0, 1.0);
+                }
+                inside[lane] = ok;
+            }
+            if !inside.iter().any(|&b| b) {
                 continue;
             }
-            let acc = lattice_sum_lanes(&self.mu, &bx, &by, &bz);
+            bernstein_lanes(l - 1, &u[0], &mut bx[..l]);
+            bernstein_lanes(m - 1, &u[1], &mut by[..m]);
+            bernstein_lanes(n - 1, &u[2], &mut bz[..n]);
+            let acc = lattice_sum_body(&ffd.mu, &bx[..l], &by[..m], &bz[..n]);
+            let f = &ffd.frame;
             for (lane, p) in block.iter_mut().enumerate() {
-                if mask[lane] {
-                    let d = self.frame * Vector3::new(acc[0][lane], acc[1][lane], acc[2][lane]);
-                    *p += d;
+                if inside[lane] {
+                    let (a, b, c) = (acc[0][lane], acc[1][lane], acc[2][lane]);
+                    p.x += f[(0, 0)] * a + f[(0, 1)] * b + f[(0, 2)] * c;
+                    p.y += f[(1, 0)] * a + f[(1, 1)] * b + f[(1, 2)] * c;
+                    p.z += f[(2, 0)] * a + f[(2, 1)] * b + f[(2, 2)] * c;
                 }
             }
+        }
+    }
+}
+
+/// [`bernstein`] across `LANES` points (`deg ≤ 32`).
+#[inline(always)]
+fn bernstein_lanes(deg: usize, t: &[f64; LANES], out: &mut [[f64; LANES]]) {
+    let mut tp = [1.0; LANES];
+    for o in out.iter_mut() {
+        *o = tp;
+        for lane in 0..LANES {
+            tp[lane] *= t[lane];
+        }
+    }
+    let mut sp = [1.0; LANES];
+    for i in (0..=deg).rev() {
+        let c = BINOM[deg][i] as f64;
+        for lane in 0..LANES {
+            out[i][lane] *= c * sp[lane];
+            sp[lane] *= 1.0 - t[lane];
         }
     }
 }
@@ -421,6 +464,19 @@ impl pulp::WithSimd for LatticeSum<'_> {
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
         let LatticeSum { mu, bx, by, bz } = self;
+        lattice_sum_body(mu, bx, by, bz)
+    }
+}
+
+/// The lattice sum's body (inlined into a `pulp` dispatch by its callers).
+#[inline(always)]
+fn lattice_sum_body(
+    mu: &Displacements,
+    bx: &[[f64; LANES]],
+    by: &[[f64; LANES]],
+    bz: &[[f64; LANES]],
+) -> [[f64; LANES]; 3] {
+    {
         let [_, m, n] = mu.shape;
         let mut acc = [[0.0; LANES]; 3];
         for (i, bxi) in bx.iter().enumerate() {
@@ -677,18 +733,35 @@ impl BoundFfd {
         out.copy_from_slice(&self.points);
         let [l, m, n] = self.shape;
         let stride = l + m + n;
-        let moved: Vec<(usize, Vector3<f64>)> = self
-            .inside
-            .par_iter()
-            .with_min_len(512)
-            .enumerate()
-            .map(|(row, &idx)| {
-                let b = &self.basis[row * stride..(row + 1) * stride];
-                (idx, self.frame * contract(mu, &b[..l], &b[l..l + m], &b[l + m..]))
-            })
-            .collect();
-        for (idx, d) in moved {
-            out[idx] += d;
+        // Eight rows at a time through the vectorised lattice sum.
+        const ROWS: usize = 512;
+        let frame = self.frame;
+        let mut moved = vec![[0.0; 3]; self.inside.len()];
+        moved.par_chunks_mut(ROWS).enumerate().for_each(|(chunk, ms)| {
+            let (mut bx, mut by, mut bz) = (vec![[0.0; LANES]; l], vec![[0.0; LANES]; m], vec![[0.0; LANES]; n]);
+            for (block, mb) in ms.chunks_mut(LANES).enumerate() {
+                for lane in 0..mb.len() {
+                    let row = chunk * ROWS + block * LANES + lane;
+                    let b = &self.basis[row * stride..(row + 1) * stride];
+                    for i in 0..l {
+                        bx[i][lane] = b[i];
+                    }
+                    for j in 0..m {
+                        by[j][lane] = b[l + j];
+                    }
+                    for k in 0..n {
+                        bz[k][lane] = b[l + m + k];
+                    }
+                }
+                let acc = lattice_sum_lanes(mu, &bx, &by, &bz);
+                for (lane, d) in mb.iter_mut().enumerate() {
+                    let v = frame * Vector3::new(acc[0][lane], acc[1][lane], acc[2][lane]);
+                    *d = [v.x, v.y, v.z];
+                }
+            }
+        });
+        for (&idx, d) in self.inside.iter().zip(moved) {
+            out[idx] += Vector3::from(d);
         }
         Ok(())
     }

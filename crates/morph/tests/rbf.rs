@@ -144,8 +144,8 @@ fn duplicate_or_coplanar_centres_are_singular() {
         Kernel::MultiQuadratic { radius: 0.5 },
         Kernel::WendlandC2 { support: 0.8 },
     ] {
-        for solver in [Solver::Dense, Solver::Sparse] {
-            if solver == Solver::Sparse && kernel.support().is_none() {
+        for solver in [Solver::Dense, Solver::Sparse, Solver::Iterative] {
+            if solver != Solver::Dense && kernel.support().is_none() {
                 continue;
             }
             let e = Rbf::try_new_with(&c, &d, kernel, RbfOptions { solver, ..Default::default() }).unwrap_err();
@@ -203,6 +203,61 @@ fn sparse_and_dense_solvers_agree() {
         RbfOptions { solver: Solver::Sparse, ..Default::default() }
     )
     .is_err());
+}
+
+#[test]
+fn conjugate_gradients_agree_with_direct_solves() {
+    let c = random_points(3000, 21);
+    let d = random_moves(3000, 22, 0.05);
+    let probe = random_points(500, 23);
+    for kernel in
+        [Kernel::WendlandC2 { support: 0.2 }, Kernel::WendlandC0 { support: 0.2 }, Kernel::WendlandC4 { support: 0.2 }]
+    {
+        let with = |solver| Rbf::try_new_with(&c, &d, kernel, RbfOptions { solver, ..Default::default() }).unwrap();
+        let (cg, direct) = (with(Solver::Iterative), with(Solver::Sparse));
+        assert!(cg.is_iterative() && cg.is_sparse() && !direct.is_iterative());
+        // Bulk evaluation (cell grid) and point by point (k-d tree) against the direct solve.
+        let a = cg.deformed(&probe);
+        let b = direct.deformed(&probe);
+        assert!(max_abs_diff(&a, &b) < 1e-10, "{kernel:?}: {:e}", max_abs_diff(&a, &b));
+        let single: Vec<Point3<f64>> = probe.iter().map(|p| cg.deform_point(p)).collect();
+        assert!(max_abs_diff(&a, &single) < 1e-13);
+        let moved = cg.deformed(&c);
+        for i in 0..c.len() {
+            assert!((moved[i] - (c[i] + d[i])).norm() < 1e-10);
+        }
+        // Both condition estimates see a moderately conditioned matrix.
+        assert!(cg.condition() > 1.0 && cg.condition() < 1e8 && direct.condition() < 1e8);
+        // Re-solving with new displacements and the Jacobian weights.
+        let mut cg2 = cg.clone();
+        let d2 = random_moves(3000, 24, 0.02);
+        let theta: Vec<f64> = (0..3).flat_map(|k| d2.iter().map(move |v| v[k])).collect();
+        cg2.set_params(&theta).unwrap();
+        let mut direct2 = direct.clone();
+        direct2.set_params(&theta).unwrap();
+        assert!(max_abs_diff(&cg2.deformed(&probe), &direct2.deformed(&probe)) < 1e-10);
+        let (wa, wb) = (cg.param_weights(&probe[0]), direct.param_weights(&probe[0]));
+        let dense = |w: &cadmorph_morph::ParamWeights| {
+            let mut v = vec![0.0; c.len()];
+            for &(j, x) in &w.weights {
+                v[j] = x;
+            }
+            v
+        };
+        let (va, vb) = (dense(&wa), dense(&wb));
+        assert!(va.iter().zip(&vb).all(|(x, y)| (x - y).abs() < 1e-9));
+    }
+    // Points far outside the centres' box only get the linear term.
+    let rbf = Rbf::try_new_with(
+        &c,
+        &d,
+        Kernel::WendlandC2 { support: 0.2 },
+        RbfOptions { solver: Solver::Iterative, ..Default::default() },
+    )
+    .unwrap();
+    let far = [Point3::new(5.0, -3.0, 0.5), Point3::new(f64::MAX, 0.0, 0.0)];
+    let bulk = rbf.deformed(&far);
+    assert!((bulk[0] - rbf.deform_point(&far[0])).norm() < 1e-13);
 }
 
 #[test]

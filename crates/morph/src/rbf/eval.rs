@@ -5,6 +5,9 @@
 //! compiler vectorises (the C library's `log` is a scalar call). The loops run inside
 //! `pulp::Arch::dispatch`, which compiles them for AVX2/FMA when the CPU has them.
 
+use nalgebra::Point3;
+
+use super::grid::Grid;
 use super::Kernel;
 
 /// Points evaluated together (one SIMD-friendly lane each).
@@ -145,6 +148,96 @@ fn run<F: Fn(f64) -> f64>(
     phi: F,
 ) -> [[f64; LANES]; 3] {
     pulp::Arch::new().dispatch(Sums { c, px, py, pz, phi })
+}
+
+/// `out[i] = [Σⱼ γⱼᶜ φ(‖pᵢ − cⱼ‖)]` for a compactly supported kernel, over the centres
+/// of the grid cells around each point (no allocation, branch-free kernel: the factor
+/// `max(1 − r/s, 0)` zeroes the centres beyond the support).
+pub(crate) fn grid_sums(kernel: &Kernel, grid: &Grid, pts: &[Point3<f64>], out: &mut [[f64; 3]]) {
+    match *kernel {
+        Kernel::BeckertWendlandC2 { radius: s } | Kernel::WendlandC2 { support: s } => {
+            let inv = 1.0 / s;
+            run_grid(grid, pts, out, move |r2| {
+                let a = r2.sqrt() * inv;
+                let t = (1.0 - a).max(0.0);
+                let t2 = t * t;
+                t2 * t2 * (4.0 * a + 1.0)
+            })
+        }
+        Kernel::WendlandC0 { support: s } => {
+            let inv = 1.0 / s;
+            run_grid(grid, pts, out, move |r2| {
+                let t = (1.0 - r2.sqrt() * inv).max(0.0);
+                t * t
+            })
+        }
+        Kernel::WendlandC4 { support: s } => {
+            let inv = 1.0 / s;
+            run_grid(grid, pts, out, move |r2| {
+                let a = r2.sqrt() * inv;
+                let t = (1.0 - a).max(0.0);
+                let t3 = t * t * t;
+                t3 * t3 * (35.0 * a * a + 18.0 * a + 3.0) * (1.0 / 3.0)
+            })
+        }
+        ref k => {
+            let k = *k;
+            run_grid(grid, pts, out, move |r2| k.eval(r2.sqrt()))
+        }
+    }
+}
+
+#[inline(always)]
+fn run_grid<F: Fn(f64) -> f64>(grid: &Grid, pts: &[Point3<f64>], out: &mut [[f64; 3]], phi: F) {
+    pulp::Arch::new().dispatch(GridSums { grid, pts, out, phi })
+}
+
+struct GridSums<'a, F> {
+    grid: &'a Grid,
+    pts: &'a [Point3<f64>],
+    out: &'a mut [[f64; 3]],
+    phi: F,
+}
+
+/// Centres handled together (independent accumulators, so that the sum vectorises).
+const CL: usize = 4;
+
+impl<F: Fn(f64) -> f64> pulp::WithSimd for GridSums<'_, F> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let GridSums { grid, pts, out, phi } = self;
+        for (p, o) in pts.iter().zip(out.iter_mut()) {
+            let mut acc = [[0.0; CL]; 3];
+            let mut tail = [0.0; 3];
+            grid.for_each_range([p.x, p.y, p.z], |r| {
+                let (cx, cy, cz) = (&grid.x[r.clone()], &grid.y[r.clone()], &grid.z[r.clone()]);
+                let (gx, gy, gz) = (&grid.g[0][r.clone()], &grid.g[1][r.clone()], &grid.g[2][r]);
+                let full = cx.len() / CL * CL;
+                for j0 in (0..full).step_by(CL) {
+                    for l in 0..CL {
+                        let j = j0 + l;
+                        let (u, v, w) = (p.x - cx[j], p.y - cy[j], p.z - cz[j]);
+                        let f = phi(u.mul_add(u, v.mul_add(v, w * w)));
+                        acc[0][l] = f.mul_add(gx[j], acc[0][l]);
+                        acc[1][l] = f.mul_add(gy[j], acc[1][l]);
+                        acc[2][l] = f.mul_add(gz[j], acc[2][l]);
+                    }
+                }
+                for j in full..cx.len() {
+                    let (u, v, w) = (p.x - cx[j], p.y - cy[j], p.z - cz[j]);
+                    let f = phi(u.mul_add(u, v.mul_add(v, w * w)));
+                    tail[0] = f.mul_add(gx[j], tail[0]);
+                    tail[1] = f.mul_add(gy[j], tail[1]);
+                    tail[2] = f.mul_add(gz[j], tail[2]);
+                }
+            });
+            for c in 0..3 {
+                o[c] = tail[c] + acc[c].iter().sum::<f64>();
+            }
+        }
+    }
 }
 
 #[cfg(test)]

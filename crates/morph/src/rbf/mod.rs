@@ -1,8 +1,10 @@
 //! Radial basis function interpolation of control-point displacements (paper §2.1.2,
 //! eq. (3)–(5)), with every PyGeM kernel and the compactly supported Wendland family.
 
+mod cg;
 mod condition;
 mod eval;
+mod grid;
 mod kernel;
 
 pub use kernel::{Kernel, DEFAULT_K};
@@ -17,6 +19,7 @@ use rayon::prelude::*;
 use crate::deformation::{check_params, ParamWeights, PARALLEL_MIN_POINTS};
 use crate::{Deformation, Error, LinearInParameters, Result};
 use eval::{Centres, LANES};
+use grid::Grid;
 
 /// Default limit on the interpolation miss at the control points, relative to the largest
 /// control displacement.
@@ -37,6 +40,16 @@ pub const MAX_CONDITION: f64 = 1e16;
 /// From this many control points on, [`Solver::Auto`] solves compactly supported kernels
 /// with the sparse factorisation (below it the dense one is as fast).
 pub const SPARSE_MIN_CENTRES: usize = 1000;
+
+/// From this many control points on, [`Solver::Auto`] solves compactly supported kernels
+/// with conjugate gradients ([`Solver::Iterative`]) instead of the sparse Cholesky
+/// factorisation, whose fill-in grows faster than the matrix in 3-D.
+pub const ITERATIVE_MIN_CENTRES: usize = 8000;
+
+/// Relative residual `‖Φγ − f‖ / ‖f‖` at which the conjugate gradients stop. Far below
+/// [`MAX_RESIDUAL`], so that the interpolant passes through its centres as closely as with
+/// a direct solve (the miss is still checked after solving).
+pub const CG_TOL: f64 = 1e-12;
 
 /// The parameters of an RBF: kernel, control points before and after the deformation.
 #[derive(Debug, Clone, PartialEq)]
@@ -61,6 +74,11 @@ pub enum Solver {
     /// Sparse Cholesky (faer, AMD ordering) of the kernel block and a 4×4 Schur complement
     /// for the linear term; compact kernels only.
     Sparse,
+    /// Conjugate gradients (Jacobi-preconditioned) on the sparse kernel block, all
+    /// right-hand sides in one pass over the matrix, and the same 4×4 Schur complement for
+    /// the linear term; compact kernels only. No fill-in: memory is the matrix itself.
+    /// The condition estimate is the Lanczos estimate of κ₂ from the CG coefficients.
+    Iterative,
 }
 
 /// Options for building an [`Rbf`].
@@ -91,6 +109,16 @@ enum System {
         phi_inv_p: Mat<f64>,
         /// (PᵀΦ⁻¹P)⁻¹.
         schur_inv: Matrix4<f64>,
+    },
+    Iterative {
+        /// Φ in the grid's sorted order.
+        phi: cg::Csr,
+        /// Φ⁻¹P (N×4).
+        phi_inv_p: Mat<f64>,
+        /// (PᵀΦ⁻¹P)⁻¹.
+        schur_inv: Matrix4<f64>,
+        /// Φ⁻¹f for the displacements at build time (solved with Φ⁻¹P in one CG run).
+        first: Option<Mat<f64>>,
     },
 }
 
@@ -141,6 +169,8 @@ pub struct Rbf {
     system: System,
     condition: f64,
     tree: Option<ImmutableKdTree<f64, 3>>,
+    /// Cell grid of the centres (compact kernels), for assembly and bulk evaluation.
+    grid: Option<Grid>,
 }
 
 impl Rbf {
@@ -214,10 +244,11 @@ impl Rbf {
                 });
             }
         }
-        let sparse = match options.solver {
-            Solver::Dense => false,
-            Solver::Sparse => {
-                if kernel.support().is_none() {
+        let compact = kernel.support().is_some();
+        let solver = match options.solver {
+            Solver::Dense => Solver::Dense,
+            Solver::Sparse | Solver::Iterative => {
+                if !compact {
                     return Err(Error::InvalidParameter {
                         line: None,
                         name: "radius",
@@ -225,9 +256,11 @@ impl Rbf {
                         reason: "the sparse solver needs a compactly supported kernel",
                     });
                 }
-                true
+                options.solver
             }
-            Solver::Auto => kernel.support().is_some() && n >= SPARSE_MIN_CENTRES,
+            Solver::Auto if compact && n >= ITERATIVE_MIN_CENTRES => Solver::Iterative,
+            Solver::Auto if compact && n >= SPARSE_MIN_CENTRES => Solver::Sparse,
+            Solver::Auto => Solver::Dense,
         };
         let shift = centres.iter().fold(Vector3::zeros(), |a, p| a + p.coords) / n as f64;
         let scale = centres.iter().map(|p| (p.coords - shift).amax()).fold(0.0, f64::max);
@@ -252,8 +285,13 @@ impl Rbf {
             system: System::Dense(Mat::<f64>::identity(1, 1).partial_piv_lu()),
             condition: 1.0,
             tree,
+            grid: kernel.support().map(|s| Grid::new(centres, s)),
         };
-        let (system, condition) = if sparse { rbf.factor_sparse()? } else { rbf.factor_dense()? };
+        let (system, condition) = match solver {
+            Solver::Sparse => rbf.factor_sparse()?,
+            Solver::Iterative => rbf.factor_iterative()?,
+            _ => rbf.factor_dense()?,
+        };
         if !condition.is_finite() {
             return Err(Error::SingularSystem { condition });
         }
@@ -371,6 +409,95 @@ impl Rbf {
         let cond_phi = norm1 * inv;
         let mut phi_inv_p = Mat::from_fn(n, 4, |i, a| self.poly_row(&self.centres[i])[a]);
         llt.solve_in_place(phi_inv_p.as_mut());
+        let (schur_inv, cond_schur) = self.schur(&phi_inv_p)?;
+        Ok((System::Sparse { llt, phi_inv_p, schur_inv }, cond_phi.max(cond_schur)))
+    }
+
+    fn factor_iterative(&self) -> Result<(System, f64)> {
+        let n = self.centres.len();
+        let grid = self.grid.as_ref().expect("compact kernels have a grid");
+        let s2 = self.kernel.support().expect("compact kernel").powi(2);
+        let kernel = self.kernel;
+        // Φ in the grid's order (neighbouring centres close in memory), both triangles.
+        const BLOCK: usize = 1024;
+        let blocks: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(BLOCK))
+            .into_par_iter()
+            .map(|b| {
+                let (mut lens, mut col, mut val) = (Vec::with_capacity(BLOCK), Vec::new(), Vec::new());
+                for i in b * BLOCK..((b + 1) * BLOCK).min(n) {
+                    let before = col.len();
+                    let (x, y, z) = (grid.x[i], grid.y[i], grid.z[i]);
+                    grid.for_each_range([x, y, z], |r| {
+                        for j in r {
+                            let (u, v, w) = (x - grid.x[j], y - grid.y[j], z - grid.z[j]);
+                            let r2 = u * u + v * v + w * w;
+                            if r2 < s2 {
+                                col.push(j as u32);
+                                val.push(kernel.eval(r2.sqrt()));
+                            }
+                        }
+                    });
+                    lens.push(col.len() - before);
+                }
+                (lens, col, val)
+            })
+            .collect();
+        let nnz = blocks.iter().map(|b| b.1.len()).sum();
+        let mut phi =
+            cg::Csr { row_ptr: Vec::with_capacity(n + 1), col: Vec::with_capacity(nnz), val: Vec::with_capacity(nnz) };
+        phi.row_ptr.push(0);
+        for (lens, col, val) in blocks {
+            for l in lens {
+                phi.row_ptr.push(phi.row_ptr.last().copied().unwrap_or(0) + l);
+            }
+            phi.col.extend_from_slice(&col);
+            phi.val.extend_from_slice(&val);
+        }
+        // One CG run for Φ⁻¹[f P]: columns 0..3 the displacements, 3..7 the polynomial basis.
+        let mut b: Vec<[f64; cg::W]> = grid
+            .perm
+            .iter()
+            .map(|&i| {
+                let (d, r) = (self.displacements[i as usize], self.poly_row(&self.centres[i as usize]));
+                [d.x, d.y, d.z, r[0], r[1], r[2], r[3], 0.0]
+            })
+            .collect();
+        let info = cg::solve(&phi, &mut b, 7, CG_TOL, cg_max_iter(n));
+        let cond_phi = info.condition;
+        if std::env::var_os("CADMORPH_CG_TRACE").is_some() {
+            eprintln!(
+                "cg: n={n} nnz={} iterations={} converged={} cond={cond_phi:.3e}",
+                phi.val.len(),
+                info.iterations,
+                info.converged
+            );
+        }
+        if !info.converged || !cond_phi.is_finite() {
+            if cond_phi.is_nan() || cond_phi >= 1.0 / f64::EPSILON {
+                return Err(Error::SingularSystem { condition: cond_phi });
+            }
+            return Err(Error::IllConditioned {
+                condition: cond_phi,
+                residual: f64::INFINITY,
+                max_condition: MAX_CONDITION,
+            });
+        }
+        let mut phi_inv_p = Mat::<f64>::zeros(n, 4);
+        let mut first = Mat::<f64>::zeros(n, 3);
+        for (s, &i) in grid.perm.iter().enumerate() {
+            for c in 0..3 {
+                first[(i as usize, c)] = b[s][c];
+            }
+            for a in 0..4 {
+                phi_inv_p[(i as usize, a)] = b[s][3 + a];
+            }
+        }
+        let (schur_inv, cond_schur) = self.schur(&phi_inv_p)?;
+        Ok((System::Iterative { phi, phi_inv_p, schur_inv, first: Some(first) }, cond_phi.max(cond_schur)))
+    }
+
+    /// `(PᵀΦ⁻¹P)⁻¹` and the 1-norm condition of `PᵀΦ⁻¹P`.
+    fn schur(&self, phi_inv_p: &Mat<f64>) -> Result<(Matrix4<f64>, f64)> {
         let mut schur = Matrix4::zeros();
         for (i, c) in self.centres.iter().enumerate() {
             let row = self.poly_row(c);
@@ -385,44 +512,77 @@ impl Rbf {
             (0..4).map(|j| m.column(j).iter().map(|v| v.abs()).sum::<f64>()).fold(0.0, f64::max)
         };
         let cond_schur = col_norm1(&schur) * col_norm1(&schur_inv);
-        let cond_schur = if cond_schur.is_finite() { cond_schur } else { f64::INFINITY };
-        Ok((System::Sparse { llt, phi_inv_p, schur_inv }, cond_phi.max(cond_schur)))
+        Ok((schur_inv, if cond_schur.is_finite() { cond_schur } else { f64::INFINITY }))
+    }
+
+    /// `Φ⁻¹z` for the columns of `z` (original order) by conjugate gradients.
+    fn cg_solve(&self, phi: &cg::Csr, z: &mut Mat<f64>) {
+        let grid = self.grid.as_ref().expect("compact kernels have a grid");
+        let n = self.centres.len();
+        for c0 in (0..z.ncols()).step_by(cg::W) {
+            let m = (z.ncols() - c0).min(cg::W);
+            let mut b: Vec<[f64; cg::W]> = grid
+                .perm
+                .iter()
+                .map(|&i| std::array::from_fn(|c| if c < m { z[(i as usize, c0 + c)] } else { 0.0 }))
+                .collect();
+            cg::solve(phi, &mut b, m, CG_TOL, cg_max_iter(n));
+            for (s, &i) in grid.perm.iter().enumerate() {
+                for c in 0..m {
+                    z[(i as usize, c0 + c)] = b[s][c];
+                }
+            }
+        }
     }
 
     /// Solve the KKT system `[Φ P; Pᵀ 0] [γ; β] = [f; h]` in place for the columns of `rhs`
     /// ((N+4) × m).
     fn solve_kkt(&self, rhs: &mut Mat<f64>) {
+        self.solve_kkt_with(rhs, None);
+    }
+
+    /// As [`Rbf::solve_kkt`]; `known` is `Φ⁻¹f` when already solved.
+    fn solve_kkt_with(&self, rhs: &mut Mat<f64>, known: Option<Mat<f64>>) {
         let n = self.centres.len();
-        match &self.system {
-            System::Dense(lu) => lu.solve_in_place(rhs.as_mut()),
+        let m = rhs.ncols();
+        let (z, phi_inv_p, schur_inv) = match &self.system {
+            System::Dense(lu) => return lu.solve_in_place(rhs.as_mut()),
             System::Sparse { llt, phi_inv_p, schur_inv } => {
-                let m = rhs.ncols();
                 let mut z = Mat::from_fn(n, m, |i, j| rhs[(i, j)]);
                 llt.solve_in_place(z.as_mut());
-                for col in 0..m {
-                    // β = S⁻¹ (Pᵀ Φ⁻¹ f − h)
-                    let mut t = nalgebra::Vector4::zeros();
-                    for (i, c) in self.centres.iter().enumerate() {
-                        let row = self.poly_row(c);
-                        for a in 0..4 {
-                            t[a] += row[a] * z[(i, col)];
-                        }
-                    }
-                    for a in 0..4 {
-                        t[a] -= rhs[(n + a, col)];
-                    }
-                    let beta = schur_inv * t;
-                    for i in 0..n {
-                        let mut v = z[(i, col)];
-                        for a in 0..4 {
-                            v -= phi_inv_p[(i, a)] * beta[a];
-                        }
-                        rhs[(i, col)] = v;
-                    }
-                    for a in 0..4 {
-                        rhs[(n + a, col)] = beta[a];
-                    }
+                (z, phi_inv_p, schur_inv)
+            }
+            System::Iterative { phi, phi_inv_p, schur_inv, .. } => {
+                let z = known.unwrap_or_else(|| {
+                    let mut z = Mat::from_fn(n, m, |i, j| rhs[(i, j)]);
+                    self.cg_solve(phi, &mut z);
+                    z
+                });
+                (z, phi_inv_p, schur_inv)
+            }
+        };
+        let polys: Vec<[f64; 4]> = self.centres.iter().map(|c| self.poly_row(c)).collect();
+        for col in 0..m {
+            // β = S⁻¹ (Pᵀ Φ⁻¹ f − h)
+            let mut t = nalgebra::Vector4::zeros();
+            for (i, row) in polys.iter().enumerate() {
+                for a in 0..4 {
+                    t[a] += row[a] * z[(i, col)];
                 }
+            }
+            for a in 0..4 {
+                t[a] -= rhs[(n + a, col)];
+            }
+            let beta = schur_inv * t;
+            for i in 0..n {
+                let mut v = z[(i, col)];
+                for a in 0..4 {
+                    v -= phi_inv_p[(i, a)] * beta[a];
+                }
+                rhs[(i, col)] = v;
+            }
+            for a in 0..4 {
+                rhs[(n + a, col)] = beta[a];
             }
         }
     }
@@ -431,7 +591,11 @@ impl Rbf {
     fn solve_weights(&mut self) -> Result<()> {
         let n = self.centres.len();
         let mut rhs = Mat::from_fn(n + 4, 3, |i, c| if i < n { self.displacements[i][c] } else { 0.0 });
-        self.solve_kkt(&mut rhs);
+        let known = match &mut self.system {
+            System::Iterative { first, .. } => first.take(),
+            _ => None,
+        };
+        self.solve_kkt_with(&mut rhs, known);
         for c in 0..3 {
             for i in 0..n {
                 let v = rhs[(i, c)];
@@ -443,6 +607,9 @@ impl Rbf {
             for a in 0..4 {
                 self.beta[c][a] = rhs[(n + a, c)];
             }
+        }
+        if let Some(grid) = &mut self.grid {
+            grid.set_weights(&self.soa.g);
         }
         Ok(())
     }
@@ -466,7 +633,11 @@ impl Rbf {
     }
     /// Whether the system was solved with the sparse factorisation.
     pub fn is_sparse(&self) -> bool {
-        matches!(self.system, System::Sparse { .. })
+        matches!(self.system, System::Sparse { .. } | System::Iterative { .. })
+    }
+    /// Whether the system was solved with conjugate gradients ([`Solver::Iterative`]).
+    pub fn is_iterative(&self) -> bool {
+        matches!(self.system, System::Iterative { .. })
     }
 
     /// The parameters (control points before and after).
@@ -522,9 +693,11 @@ impl Rbf {
 
     /// Deform `points` on the calling thread.
     fn deform_serial(&self, points: &mut [Point3<f64>]) {
-        if self.tree.is_some() {
-            for p in points {
-                *p = self.deform_point(p);
+        if let Some(grid) = &self.grid {
+            let mut sums = vec![[0.0; 3]; points.len()];
+            eval::grid_sums(&self.kernel, grid, points, &mut sums);
+            for (p, s) in points.iter_mut().zip(sums) {
+                *p += self.linear_term(p) + Vector3::from(s);
             }
             return;
         }
@@ -544,6 +717,11 @@ impl Rbf {
             }
         }
     }
+}
+
+/// Iteration limit of the conjugate gradients for `n` centres.
+fn cg_max_iter(n: usize) -> usize {
+    (3 * n).clamp(1000, 20_000)
 }
 
 /// `x ← A⁻¹x` (or `A⁻ᵀx`) with a dense LU.
