@@ -107,29 +107,7 @@ fn identity(s: NurbsSurface) -> ExactSurface {
     ExactSurface { surface: s, u_map: ParamMap::Identity, v_map: ParamMap::Identity }
 }
 
-/// OCCT's X direction for a frame with main direction `n` (`gp_Ax2(P, N)`): the axis of
-/// the smallest component of `n` is dropped and the other two swapped.
-pub(crate) fn default_x(n: &Vector3<f64>) -> Vector3<f64> {
-    let (a, b, c) = (n.x, n.y, n.z);
-    let (aa, ba, ca) = (a.abs(), b.abs(), c.abs());
-    if ba <= aa && ba <= ca {
-        if aa > ca {
-            Vector3::new(-c, 0.0, a)
-        } else {
-            Vector3::new(c, 0.0, -a)
-        }
-    } else if aa <= ba && aa <= ca {
-        if ba > ca {
-            Vector3::new(0.0, -c, b)
-        } else {
-            Vector3::new(0.0, c, -b)
-        }
-    } else if aa > ba {
-        Vector3::new(-b, a, 0.0)
-    } else {
-        Vector3::new(b, -a, 0.0)
-    }
-}
+pub(crate) use cadmorph_nurbs::analytic::occt_default_x as default_x;
 
 /// Joins curves end to start into one (degrees raised to the highest, weights rescaled so
 /// the joints match; each joint becomes a knot of multiplicity `degree`, C0). The

@@ -1102,6 +1102,46 @@ impl AnalyticCurve for Ellipse {
     }
 }
 
+/// OCCT's X direction for a frame given only its main direction `n` (`gp_Ax2(P, N)`):
+/// perpendicular to `n`, built by zeroing the component of `n` of smallest magnitude and
+/// swapping the other two with a sign change. IGES and STEP placements without a
+/// reference direction use it, so their analytic faces get OCCT's parameterisation.
+/// A zero `n` gives the x axis.
+///
+/// # Examples
+///
+/// ```
+/// use cadmorph_nurbs::analytic::occt_default_x;
+/// use cadmorph_nurbs::math::Vector3;
+/// assert_eq!(occt_default_x(&Vector3::z()), Vector3::new(1.0, 0.0, 0.0));
+/// ```
+pub fn occt_default_x(n: &Vector3<f64>) -> Vector3<f64> {
+    let (a, b, c) = (n.x, n.y, n.z);
+    let (aa, ba, ca) = (a.abs(), b.abs(), c.abs());
+    let v = if ba <= aa && ba <= ca {
+        if aa > ca {
+            Vector3::new(-c, 0.0, a)
+        } else {
+            Vector3::new(c, 0.0, -a)
+        }
+    } else if aa <= ba && aa <= ca {
+        if ba > ca {
+            Vector3::new(0.0, -c, b)
+        } else {
+            Vector3::new(0.0, c, -b)
+        }
+    } else if aa > ba {
+        Vector3::new(-b, a, 0.0)
+    } else {
+        Vector3::new(b, -a, 0.0)
+    };
+    if v.norm() > 0.0 {
+        v
+    } else {
+        Vector3::x()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

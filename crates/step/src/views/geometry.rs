@@ -547,34 +547,7 @@ fn knot_vector(r: &Rec<'_>, values: &[f64], mults: &[usize]) -> Result<KnotVecto
     KnotVector::from_multiplicities(values, mults).map_err(|e| r.geometry(e))
 }
 
-/// OCCT's choice of X for a frame with only its main axis given (`gp_Ax2(P, N)`):
-/// perpendicular to N, with the component of N of smallest magnitude set to zero.
-pub(crate) fn default_x(n: &Vector3<f64>) -> Vector3<f64> {
-    let (a, b, c) = (n.x, n.y, n.z);
-    let (aa, ba, ca) = (a.abs(), b.abs(), c.abs());
-    let v = if ba <= aa && ba <= ca {
-        if aa > ca {
-            Vector3::new(-c, 0.0, a)
-        } else {
-            Vector3::new(c, 0.0, -a)
-        }
-    } else if aa <= ba && aa <= ca {
-        if ba > ca {
-            Vector3::new(0.0, -c, b)
-        } else {
-            Vector3::new(0.0, c, -b)
-        }
-    } else if aa > ba {
-        Vector3::new(-b, a, 0.0)
-    } else {
-        Vector3::new(b, -a, 0.0)
-    };
-    if v.norm() > 0.0 {
-        v
-    } else {
-        Vector3::x()
-    }
-}
+pub(crate) use cadmorph_nurbs::analytic::occt_default_x as default_x;
 
 /// Reads `CARTESIAN_POINT ( '...' , ( x , y , z ) )` directly; `None` when the text has
 /// any other shape (then the general parser decides).
