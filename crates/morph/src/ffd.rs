@@ -490,16 +490,16 @@ fn lattice_sum_body(
                 for (k, bzk) in bz.iter().enumerate() {
                     let (a, b, c) = (mx[k], my[k], mz[k]);
                     for lane in 0..LANES {
-                        sx[lane] += bzk[lane] * a;
-                        sy[lane] += bzk[lane] * b;
-                        sz[lane] += bzk[lane] * c;
+                        sx[lane] = bzk[lane].mul_add(a, sx[lane]);
+                        sy[lane] = bzk[lane].mul_add(b, sy[lane]);
+                        sz[lane] = bzk[lane].mul_add(c, sz[lane]);
                     }
                 }
                 for lane in 0..LANES {
                     let w = bxi[lane] * byj[lane];
-                    acc[0][lane] += w * sx[lane];
-                    acc[1][lane] += w * sy[lane];
-                    acc[2][lane] += w * sz[lane];
+                    acc[0][lane] = w.mul_add(sx[lane], acc[0][lane]);
+                    acc[1][lane] = w.mul_add(sy[lane], acc[1][lane]);
+                    acc[2][lane] = w.mul_add(sz[lane], acc[2][lane]);
                 }
             }
         }

@@ -17,7 +17,7 @@
 ///
 /// The Wendland functions φ₃,ₖ (Wendland 1995) are positive definite in ℝ³ and vanish
 /// beyond the support radius `s` (`ρ = r / s`); with them the interpolation matrix is sparse
-/// and [`crate::Rbf`] solves it with a sparse Cholesky factorisation:
+/// and [`crate::Rbf`] solves it with a sparse Cholesky factorisation or conjugate gradients:
 ///
 /// | variant | name | φ(r) |
 /// |---|---|---|

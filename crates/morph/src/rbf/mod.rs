@@ -78,6 +78,8 @@ pub enum Solver {
     /// right-hand sides in one pass over the matrix, and the same 4×4 Schur complement for
     /// the linear term; compact kernels only. No fill-in: memory is the matrix itself.
     /// The condition estimate is the Lanczos estimate of κ₂ from the CG coefficients.
+    /// (With the environment variable `CADMORPH_CG_TRACE` set, the iteration count is
+    /// printed to stderr.)
     Iterative,
 }
 
@@ -136,8 +138,8 @@ enum System {
 /// origin or in millimetres.
 ///
 /// Building solves the system once, densely (faer LU) for global kernels, or with a
-/// k-d tree neighbourhood (kiddo) and a sparse Cholesky factorisation for compactly
-/// supported ones, and refuses a singular or ill-conditioned system
+/// sparse matrix for compactly supported ones (sparse Cholesky from [`SPARSE_MIN_CENTRES`],
+/// conjugate gradients from [`ITERATIVE_MIN_CENTRES`] centres, see [`Solver`]), and refuses a singular or ill-conditioned system
 /// ([`Error::SingularSystem`], [`Error::IllConditioned`]) with its condition estimate.
 ///
 /// # Examples
