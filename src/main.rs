@@ -186,36 +186,51 @@ fn info(file: &Path, json: bool) -> Result<()> {
     Ok(())
 }
 
+/// One grid point of `sample`/`eval`: `(u, v, point, normal)`.
+type Row = (f64, f64, [f64; 3], Option<[f64; 3]>);
+
+/// Points and (face-oriented) normals of `s` on an `n × n` grid over its domain.
+fn grid_rows(s: &cadmorph::nurbs::NurbsSurface, n: usize, reversed: bool) -> Vec<Row> {
+    let (ud, vd) = s.domain();
+    let mut rows = Vec::with_capacity(n * n);
+    for i in 0..n {
+        for j in 0..n {
+            let u = ud.start() + (ud.end() - ud.start()) * i as f64 / (n - 1) as f64;
+            let v = vd.start() + (vd.end() - vd.start()) * j as f64 / (n - 1) as f64;
+            let q = s.eval(u, v);
+            let nrm = s.normal(u, v).map(|n| if reversed { -n.into_inner() } else { n.into_inner() });
+            rows.push((u, v, [q.x, q.y, q.z], nrm.map(|n| [n.x, n.y, n.z])));
+        }
+    }
+    rows
+}
+
+fn rows_json(rows: &[Row]) -> Vec<serde_json::Value> {
+    rows.iter().map(|(u, v, q, n)| serde_json::json!({"u": u, "v": v, "p": q, "n": n})).collect()
+}
+
+fn print_rows(rows: &[Row]) {
+    println!("{:>10} {:>10} {:>14} {:>14} {:>14} {:>9} {:>9} {:>9}", "u", "v", "x", "y", "z", "nx", "ny", "nz");
+    for (u, v, q, n) in rows {
+        let n =
+            n.map_or("    (degenerate point)".to_string(), |n| format!("{:>9.5} {:>9.5} {:>9.5}", n[0], n[1], n[2]));
+        println!("{u:>10.5} {v:>10.5} {:>14.6} {:>14.6} {:>14.6} {n}", q[0], q[1], q[2]);
+    }
+}
+
 fn sample(file: &Path, grid: usize, json: bool) -> Result<()> {
     let m = open(file)?;
     let mut out = Vec::new();
     for p in m.patches() {
-        let s = &p.surface;
-        let (ud, vd) = s.domain();
-        let mut rows = Vec::new();
-        for i in 0..grid {
-            for j in 0..grid {
-                let u = ud.start() + (ud.end() - ud.start()) * i as f64 / (grid - 1) as f64;
-                let v = vd.start() + (vd.end() - vd.start()) * j as f64 / (grid - 1) as f64;
-                let q = s.eval(u, v);
-                let n = s.normal(u, v).map(|n| if p.reversed { -n.into_inner() } else { n.into_inner() });
-                rows.push((u, v, [q.x, q.y, q.z], n.map(|n| [n.x, n.y, n.z])));
-            }
-        }
+        let rows = grid_rows(&p.surface, grid, p.reversed);
         if json {
             out.push(serde_json::json!({
                 "face": p.source.to_string(),
-                "grid": rows.iter().map(|(u, v, q, n)| serde_json::json!({"u": u, "v": v, "p": q, "n": n})).collect::<Vec<_>>(),
+                "grid": rows_json(&rows),
             }));
         } else {
             println!("face {} ({}):", p.source, p.kind);
-            println!("{:>10} {:>10} {:>14} {:>14} {:>14} {:>9} {:>9} {:>9}", "u", "v", "x", "y", "z", "nx", "ny", "nz");
-            for (u, v, q, n) in &rows {
-                let n = n.map_or("    (degenerate point)".to_string(), |n| {
-                    format!("{:>9.5} {:>9.5} {:>9.5}", n[0], n[1], n[2])
-                });
-                println!("{u:>10.5} {v:>10.5} {:>14.6} {:>14.6} {:>14.6} {n}", q[0], q[1], q[2]);
-            }
+            print_rows(&rows);
         }
     }
     if json {
@@ -301,17 +316,7 @@ fn eval(file: &PathBuf, grid: usize, only: Option<usize>, json: bool) -> Result<
                 dn = dn.max((a.into_inner() - b).norm());
             }
         }
-        let (ud, vd) = s.domain();
-        let mut rows = Vec::new();
-        for i in 0..grid {
-            for j in 0..grid {
-                let u = ud.start() + (ud.end() - ud.start()) * i as f64 / (grid - 1) as f64;
-                let v = vd.start() + (vd.end() - vd.start()) * j as f64 / (grid - 1) as f64;
-                let p = s.eval(u, v);
-                let n = s.normal(u, v).map(|n| [n.x, n.y, n.z]);
-                rows.push((u, v, [p.x, p.y, p.z], n));
-            }
-        }
+        let rows = grid_rows(s, grid, false);
         if json {
             out.push(serde_json::json!({
                 "face": f.index,
@@ -321,7 +326,7 @@ fn eval(file: &PathBuf, grid: usize, only: Option<usize>, json: bool) -> Result<
                 "occt_samples": f.samples.len(),
                 "max_point_difference_relative": dp,
                 "max_normal_difference": dn,
-                "grid": rows.iter().map(|(u, v, p, n)| serde_json::json!({"u": u, "v": v, "p": p, "n": n})).collect::<Vec<_>>(),
+                "grid": rows_json(&rows),
             }));
         } else {
             println!(
@@ -336,13 +341,7 @@ fn eval(file: &PathBuf, grid: usize, only: Option<usize>, json: bool) -> Result<
                 dp,
                 dn
             );
-            println!("{:>8} {:>8} {:>14} {:>14} {:>14} {:>9} {:>9} {:>9}", "u", "v", "x", "y", "z", "nx", "ny", "nz");
-            for (u, v, p, n) in &rows {
-                let n = n.map_or("    (degenerate point)".to_string(), |n| {
-                    format!("{:>9.5} {:>9.5} {:>9.5}", n[0], n[1], n[2])
-                });
-                println!("{u:>8.4} {v:>8.4} {:>14.6} {:>14.6} {:>14.6} {n}", p[0], p[1], p[2]);
-            }
+            print_rows(&rows);
             println!();
         }
     }

@@ -226,3 +226,23 @@ pub(crate) fn check_params(theta: &[f64], expected: usize) -> crate::Result<()> 
     }
     Ok(())
 }
+
+/// The displacements `deformed − original` of parameter files' control points.
+///
+/// # Errors
+///
+/// [`Error::CountMismatch`](crate::Error::CountMismatch) when the two lists differ in length.
+pub(crate) fn displacements(
+    original: &[Point3<f64>],
+    deformed: &[Point3<f64>],
+) -> crate::Result<Vec<nalgebra::Vector3<f64>>> {
+    if original.len() != deformed.len() {
+        return Err(crate::Error::CountMismatch {
+            line: 0,
+            what: "deformed control points",
+            expected: original.len(),
+            found: deformed.len(),
+        });
+    }
+    Ok(original.iter().zip(deformed).map(|(a, b)| b - a).collect())
+}

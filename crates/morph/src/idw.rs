@@ -165,15 +165,7 @@ impl Idw {
     ///
     /// As [`Idw::try_new`].
     pub fn from_parameters(params: &IdwParameters) -> Result<Idw> {
-        if params.original.len() != params.deformed.len() {
-            return Err(Error::CountMismatch {
-                line: 0,
-                what: "deformed control points",
-                expected: params.original.len(),
-                found: params.deformed.len(),
-            });
-        }
-        let d: Vec<Vector3<f64>> = params.original.iter().zip(&params.deformed).map(|(a, b)| b - a).collect();
+        let d = crate::deformation::displacements(&params.original, &params.deformed)?;
         Idw::try_new(&params.original, &d, params.variant)
     }
 

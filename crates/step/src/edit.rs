@@ -10,7 +10,7 @@ use crate::document::Document;
 use crate::error::{Error, Result};
 use crate::read::param::Body;
 use crate::views::{Ctx, Face, SurfaceKind};
-use crate::write::real_list;
+use crate::write::{knot_lists, real_list};
 use crate::EntityId;
 
 /// How [`Document::morph`] moves the edges and vertices of the morphed faces.
@@ -234,8 +234,8 @@ impl Document {
             })
             .collect::<Vec<_>>()
             .join(",");
-        let (um, uk) = mults(s.u_knots().as_slice());
-        let (vm, vk) = mults(s.v_knots().as_slice());
+        let (um, uk) = knot_lists(s.u_knots());
+        let (vm, vk) = knot_lists(s.v_knots());
         let knots = format!("{um},{vm},{uk},{vk},.UNSPECIFIED.");
         let text = match s.weights() {
             Some(w) => format!(
@@ -550,21 +550,6 @@ fn interpolate(c: &NurbsCurve, targets: &[Point3<f64>]) -> Option<Vec<Point3<f64
         }
     }
     Some(out)
-}
-
-fn mults(knots: &[f64]) -> (String, String) {
-    let mut vals: Vec<f64> = Vec::new();
-    let mut ms: Vec<usize> = Vec::new();
-    for &k in knots {
-        if vals.last() == Some(&k) {
-            *ms.last_mut().expect("same length") += 1;
-        } else {
-            vals.push(k);
-            ms.push(1);
-        }
-    }
-    let m = format!("({})", ms.iter().map(usize::to_string).collect::<Vec<_>>().join(","));
-    (m, real_list(vals))
 }
 
 fn weight_text(w: &[f64], rows: Option<usize>) -> String {

@@ -194,15 +194,7 @@ impl Rbf {
     ///
     /// As [`Rbf::try_new`].
     pub fn from_parameters(params: &RbfParameters) -> Result<Rbf> {
-        if params.original.len() != params.deformed.len() {
-            return Err(Error::CountMismatch {
-                line: 0,
-                what: "deformed control points",
-                expected: params.original.len(),
-                found: params.deformed.len(),
-            });
-        }
-        let d: Vec<Vector3<f64>> = params.original.iter().zip(&params.deformed).map(|(a, b)| b - a).collect();
+        let d = crate::deformation::displacements(&params.original, &params.deformed)?;
         Rbf::try_new(&params.original, &d, params.kernel)
     }
 

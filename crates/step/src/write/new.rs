@@ -3,7 +3,7 @@
 use cadmorph_nurbs::math::Point3;
 use cadmorph_nurbs::{Curve, NurbsCurve, NurbsSurface, Side, Surface};
 
-use super::{format_real, real_list};
+use super::{format_real, knot_lists, real_list};
 use crate::document::Document;
 use crate::error::{Error, Position, Result};
 use crate::read::param::encode_string;
@@ -94,7 +94,7 @@ impl DocumentBuilder {
     fn curve(&mut self, c: &NurbsCurve) -> u64 {
         let ids: Vec<u64> = c.control_points().iter().map(|p| self.point(p)).collect();
         let cps = ids.iter().map(|i| format!("#{i}")).collect::<Vec<_>>().join(",");
-        let (m, k) = mults(c.knots().as_slice());
+        let (m, k) = knot_lists(c.knots());
         match c.weights() {
             None => self.add(format!("B_SPLINE_CURVE_WITH_KNOTS('',{},({cps}),.UNSPECIFIED.,.F.,.F.,{m},{k},.UNSPECIFIED.)", c.degree())),
             Some(w) => self.add(format!(
@@ -112,8 +112,8 @@ impl DocumentBuilder {
             .map(|i| format!("({})", (0..n_v).map(|j| format!("#{}", ids[i * n_v + j])).collect::<Vec<_>>().join(",")))
             .collect::<Vec<_>>()
             .join(",");
-        let (um, uk) = mults(s.u_knots().as_slice());
-        let (vm, vk) = mults(s.v_knots().as_slice());
+        let (um, uk) = knot_lists(s.u_knots());
+        let (vm, vk) = knot_lists(s.v_knots());
         match s.weights() {
             None => self.add(format!(
                 "B_SPLINE_SURFACE_WITH_KNOTS('',{},{},({rows}),.UNSPECIFIED.,.F.,.F.,.F.,{um},{vm},{uk},{vk},.UNSPECIFIED.)",
@@ -280,18 +280,4 @@ impl DocumentBuilder {
         text.push_str("ENDSEC;\nEND-ISO-10303-21;\n");
         Document::parse(text.as_bytes())
     }
-}
-
-fn mults(knots: &[f64]) -> (String, String) {
-    let mut vals: Vec<f64> = Vec::new();
-    let mut ms: Vec<usize> = Vec::new();
-    for &k in knots {
-        if vals.last() == Some(&k) {
-            *ms.last_mut().expect("same length") += 1;
-        } else {
-            vals.push(k);
-            ms.push(1);
-        }
-    }
-    (format!("({})", ms.iter().map(usize::to_string).collect::<Vec<_>>().join(",")), real_list(vals))
 }
