@@ -20,6 +20,7 @@
 
 mod error;
 mod model;
+mod topology;
 
 pub use error::{Error, Result};
 pub use model::{Format, Info, Model, MorphOptions, MorphOutcome, Patch, PatchInfo, Source};

@@ -9,12 +9,13 @@ use cadmorph_morph::Deformation;
 use cadmorph_nurbs::math::Point3;
 use cadmorph_nurbs::NurbsSurface;
 use cadmorph_seam::{
-    make_compatible, measure_boundary, refine_seams, refine_uniform, repair, shared_boundaries, Face,
-    SeamRefineOptions, SeamRefinement, SeamReport, SharedBoundary,
+    make_compatible, measure_boundary, measure_edge, refine_edges, refine_uniform, repair, shared_boundaries, Face,
+    SeamRefineOptions, SeamRefinement, SeamReport, SharedBoundary, TrimEdge,
 };
 use cadmorph_step as step;
 use serde::Serialize;
 
+use crate::topology::{iges_edges, iges_reversed_faces, step_edges};
 use crate::{Error, Result};
 
 /// The file format a model came from.
@@ -83,6 +84,10 @@ pub struct Model {
     patches: Vec<Patch>,
     skipped: Vec<(String, String)>,
     unit: String,
+    /// Coinciding iso-boundaries.
+    iso: Vec<SharedBoundary>,
+    /// Edges from the file's topology or trims that are not among `iso`.
+    trims: Vec<TrimEdge>,
 }
 
 /// Settings of [`Model::morph`].
@@ -193,13 +198,14 @@ impl Model {
     fn from_iges(doc: iges::Document) -> Result<Self> {
         let mut patches = Vec::new();
         let mut skipped = Vec::new();
+        let reversed = iges_reversed_faces(&doc);
         for f in doc.faces() {
             let source = Source::Iges { face: f.face.0, surface: f.surface.0 };
             let kind = doc.entity(f.surface).map(|e| e.entity_type()).unwrap_or(0);
             match doc.face_surface(&f) {
                 Ok(es) => patches.push(Patch {
                     surface: es.surface,
-                    reversed: false,
+                    reversed: reversed.get(&f.face.0).copied().unwrap_or(false),
                     source,
                     kind: format!("IGES {kind}"),
                     analytic: kind != 128,
@@ -209,7 +215,25 @@ impl Model {
             }
         }
         let unit = doc.global().unit_name();
-        Ok(Self { doc: Doc::Iges(Box::new(doc)), patches, skipped, unit })
+        let tol = edge_tol(&patches);
+        let trims = iges_edges(&doc, &patches, tol);
+        Ok(Self::with_edges(Doc::Iges(Box::new(doc)), patches, skipped, unit, trims))
+    }
+
+    /// Finds the iso-boundary edges and keeps the topology edges that are not among them.
+    fn with_edges(
+        doc: Doc,
+        patches: Vec<Patch>,
+        skipped: Vec<(String, String)>,
+        unit: String,
+        trims: Vec<TrimEdge>,
+    ) -> Self {
+        let tol = edge_tol(&patches);
+        let refs: Vec<&NurbsSurface> = patches.iter().map(|p| &p.surface).collect();
+        let iso = shared_boundaries(&refs, tol, 64, 0.9);
+        let surfaces: Vec<NurbsSurface> = patches.iter().map(|p| p.surface.clone()).collect();
+        let trims = trims.into_iter().filter(|t| !iso.iter().any(|e| t.lies_on(e, &surfaces, tol))).collect();
+        Self { doc, patches, skipped, unit, iso, trims }
     }
 
     fn from_step(doc: step::Document) -> Result<Self> {
@@ -235,7 +259,14 @@ impl Model {
             }
         }
         let unit = doc.units()?.length.name;
-        Ok(Self { doc: Doc::Step(Box::new(doc)), patches, skipped, unit })
+        let trims = match step_edges(&doc, &patches) {
+            Ok(t) => t,
+            Err(e) => {
+                skipped.push(("edges".to_owned(), e.to_string()));
+                Vec::new()
+            }
+        };
+        Ok(Self::with_edges(Doc::Step(Box::new(doc)), patches, skipped, unit, trims))
     }
 
     /// The file format.
@@ -258,8 +289,7 @@ impl Model {
 
     /// The diagonal of the box around all control points (the model size).
     pub fn size(&self) -> f64 {
-        let pts = self.patches.iter().flat_map(|p| p.surface.control_points());
-        cadmorph_nurbs::Aabb::from_points(pts).map_or(0.0, |b| b.diagonal())
+        size_of(&self.patches)
     }
 
     /// A summary: format, unit, entity counts, faces.
@@ -298,17 +328,22 @@ impl Model {
 
     /// Shared iso boundaries between the patches, found from geometry: sides that lie on
     /// each other within `1e-3 ×` the model size (so defects up to that size are seen).
-    ///
-    /// Trimmed faces whose boundary is not an iso line of their surface are not paired
-    /// by this (their edges come from the file's topology in a later version).
-    pub fn edges(&self) -> Vec<SharedBoundary> {
-        let refs: Vec<&NurbsSurface> = self.patches.iter().map(|p| &p.surface).collect();
-        shared_boundaries(&refs, 1e-3 * self.size(), 64, 0.9)
+    /// These are the edges that seam repair can make exact.
+    pub fn edges(&self) -> &[SharedBoundary] {
+        &self.iso
     }
 
-    /// Measures every shared edge with `samples` points.
+    /// The other shared edges: from the file's topology (STEP B-rep edges, IGES 504
+    /// edges used by two 510 faces) and trimming curves of two faces that lie on each
+    /// other within `1e-3 ×` the model size (IGES 144/143), leaving out those that are
+    /// also iso-boundary edges ([`edges`](Self::edges)).
+    pub fn trim_edges(&self) -> &[TrimEdge] {
+        &self.trims
+    }
+
+    /// Measures every shared edge, iso-boundary and trim edges, with `samples` points.
     pub fn seams(&self, samples: usize) -> SeamReport {
-        seams_of(&self.patches, &self.edges(), samples)
+        seams_of(&self.patches, &self.iso, &self.trims, samples)
     }
 
     /// The document as bytes: the input, byte for byte, where nothing was edited.
@@ -349,7 +384,6 @@ impl Model {
         if self.format() != Format::Iges {
             return Err(Error::Unsupported("refinement is written for IGES so far"));
         }
-        let size = self.size();
         let before: usize = self.patches.iter().map(|p| p.surface.control_points().len()).sum();
         let mut patches: Vec<NurbsSurface> = self.patches.iter().map(|p| p.surface.clone()).collect();
         if let Some(n) = opts.uniform_knots {
@@ -361,8 +395,7 @@ impl Model {
         }
         if let Some(r) = opts.refine {
             let d = d.ok_or(Error::Unsupported("seam refinement needs the morph it refines for"))?;
-            let edges = shared_boundaries(&patches.iter().collect::<Vec<_>>(), 1e-3 * size, 64, 0.9);
-            refine_seams(&mut patches, &edges, d, &r);
+            refine_edges(&mut patches, &self.iso, &self.trims, d, &r);
         }
         let Doc::Iges(doc) = &mut self.doc else { unreachable!("checked above") };
         for (p, s) in self.patches.iter().zip(&patches) {
@@ -388,8 +421,8 @@ impl Model {
     /// [`Error::NonFinite`] or [`Error::Folded`] before anything is changed; the file
     /// layers' errors.
     pub fn morph(&mut self, d: &dyn Deformation, opts: &MorphOptions) -> Result<MorphOutcome> {
-        let edges = self.edges();
-        let seams_before = seams_of(&self.patches, &edges, 200);
+        let edges = self.iso.clone();
+        let seams_before = self.seams(200);
         let before: usize = self.patches.iter().map(|p| p.surface.control_points().len()).sum();
         let mut patches: Vec<NurbsSurface> = self.patches.iter().map(|p| p.surface.clone()).collect();
         if opts.repair {
@@ -400,7 +433,7 @@ impl Model {
                 refine_uniform(s, n);
             }
         }
-        let refinement = opts.refine.map(|r| refine_seams(&mut patches, &edges, d, &r));
+        let refinement = opts.refine.map(|r| refine_edges(&mut patches, &edges, &self.trims, d, &r));
         let refined = patches.clone();
         // Move and check every control point before touching the document.
         for (p, s) in self.patches.iter().zip(&mut patches) {
@@ -438,10 +471,7 @@ impl Model {
             Doc::Step(doc) => write_step(doc, &self.patches, &refined, &patches, d, opts.repair)?,
         };
         // Read the written document back: the report describes what was written.
-        let again = Model::from_bytes(&self.to_bytes())?;
-        self.doc = again.doc;
-        self.patches = again.patches;
-        self.skipped = again.skipped;
+        *self = Model::from_bytes(&self.to_bytes())?;
         let after: usize = self.patches.iter().map(|p| p.surface.control_points().len()).sum();
         Ok(MorphOutcome {
             control_points_before: before,
@@ -450,14 +480,25 @@ impl Model {
             curves_rewritten,
             refinement,
             seams_before,
-            seams_after: seams_of(&self.patches, &self.edges(), 200),
+            seams_after: self.seams(200),
         })
     }
 }
 
-fn seams_of(patches: &[Patch], edges: &[SharedBoundary], samples: usize) -> SeamReport {
+fn size_of(patches: &[Patch]) -> f64 {
+    let pts = patches.iter().flat_map(|p| p.surface.control_points());
+    cadmorph_nurbs::Aabb::from_points(pts).map_or(0.0, |b| b.diagonal())
+}
+
+/// How far apart two sides may be and still be one edge: `1e-3 ×` the model size.
+fn edge_tol(patches: &[Patch]) -> f64 {
+    1e-3 * size_of(patches)
+}
+
+fn seams_of(patches: &[Patch], edges: &[SharedBoundary], trims: &[TrimEdge], samples: usize) -> SeamReport {
     let faces: Vec<Face> = patches.iter().map(|p| Face { surface: &p.surface, reversed: p.reversed }).collect();
-    SeamReport::new(edges.iter().map(|e| measure_boundary(&faces, e, samples)).collect())
+    let iso = edges.iter().map(|e| measure_boundary(&faces, e, samples));
+    SeamReport::new(iso.chain(trims.iter().map(|e| measure_edge(&faces, e, samples))).collect())
 }
 
 fn moved_by(d: &dyn Deformation, pts: &[Point3<f64>]) -> bool {

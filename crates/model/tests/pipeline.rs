@@ -38,6 +38,56 @@ fn defect_seams_agree_with_occt_in_both_formats() {
     }
 }
 
+/// Edges from the file's topology (STEP B-rep, IGES 186/514/510 over 504 edges) and,
+/// for the IGES file without B-rep, from trimming curves that lie on each other: the same
+/// face pairs as OCCT's shared edges of the STEP solid, with OCCT's normal angles (the
+/// oriented angle, so the face orientations agree too) and gaps at OCCT's level.
+#[test]
+fn mixed_solid_edges_from_topology_agree_with_occt() {
+    let check: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(sample("mixed_solid.stp.check.json")).unwrap()).unwrap();
+    let mut occt: Vec<((u64, u64), f64, f64)> = check["seams"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| {
+            let f = s["faces"].as_array().unwrap();
+            let (a, b) = (f[0].as_u64().unwrap(), f[1].as_u64().unwrap());
+            ((a.min(b), a.max(b)), s["max_normal_angle_deg"].as_f64().unwrap(), s["edge_length"].as_f64().unwrap())
+        })
+        .collect();
+    occt.sort_by(|x, y| x.0.cmp(&y.0));
+    assert_eq!(occt.len(), 29);
+    for name in ["mixed_solid.stp", "mixed_solid_brep.igs", "mixed_solid.igs"] {
+        let m = open(name);
+        // OCCT's own check takes 50 samples per edge, evenly spaced in the edge parameter.
+        let r = m.seams(50);
+        let mut ours: Vec<((u64, u64), f64, f64, f64)> = r
+            .edges
+            .iter()
+            .map(|e| {
+                let (a, b) = (e.a.patch as u64, e.b.patch as u64);
+                ((a.min(b), a.max(b)), e.g1_angle_deg.max, e.length, e.gap_matched.max)
+            })
+            .collect();
+        ours.sort_by(|x, y| x.0.cmp(&y.0));
+        let pairs = |v: &[(u64, u64)]| v.to_vec();
+        assert_eq!(
+            pairs(&ours.iter().map(|o| o.0).collect::<Vec<_>>()),
+            pairs(&occt.iter().map(|o| o.0).collect::<Vec<_>>()),
+            "{name}: face pairs"
+        );
+        for (o, c) in ours.iter().zip(&occt) {
+            assert!((o.1 - c.1).abs() < 0.02, "{name} {:?}: angle {} vs OCCT {}", o.0, o.1, c.1);
+            assert!((o.2 - c.2).abs() < 1e-3 * c.2, "{name} {:?}: length {} vs OCCT {}", o.0, o.2, c.2);
+            assert!(o.3 < 1e-6, "{name} {:?}: gap {}", o.0, o.3);
+        }
+        // The loft's one smooth edge is the only one not sharp.
+        assert_eq!(r.sharp_edges, 28, "{name}");
+        assert!(r.max_g1_angle_deg < 1e-6, "{name}: {}", r.max_g1_angle_deg);
+    }
+}
+
 #[test]
 fn zero_morph_writes_the_input_unchanged() {
     let zero = Affine::identity();

@@ -16,12 +16,7 @@ pub struct SideRef {
 }
 
 fn side_name<S: serde::Serializer>(side: &Side, s: S) -> Result<S::Ok, S::Error> {
-    s.serialize_str(match side {
-        Side::UMin => "u_min",
-        Side::UMax => "u_max",
-        Side::VMin => "v_min",
-        Side::VMax => "v_max",
-    })
+    s.serialize_str(crate::measure::side_label(*side))
 }
 
 /// Two iso-boundaries that coincide (over part of their length at least).
@@ -135,7 +130,7 @@ fn orient(a: SideRef, b: SideRef, a_range: (f64, f64), b_range: (f64, f64)) -> S
 
 /// The matched intervals of `short` on `long`: `(range on short, range on long)` with
 /// the first entries matched, or `None` if less than `min_fraction` of `short` lies on `long`.
-fn overlap(
+pub(crate) fn overlap(
     short: &NurbsCurve,
     long: &NurbsCurve,
     tol: f64,

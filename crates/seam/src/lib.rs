@@ -6,9 +6,11 @@
 //! angle, C1 mismatch of cross-boundary derivatives), refines patches so that moving
 //! their control points follows the exact morph within a tolerance, and repairs seams
 //! between iso boundaries to exact C0 (and G1). It works on NURBS patches and
-//! [`Deformation`](cadmorph_morph::Deformation)s; where edges come from (a STEP B-rep,
-//! IGES trims, or coinciding boundaries found by [`shared_boundaries`]) is the model
-//! crate's business.
+//! [`Deformation`](cadmorph_morph::Deformation)s. Edges are either coinciding
+//! iso-boundaries ([`shared_boundaries`], [`measure_boundary`]) or curves shared by two
+//! faces that need not be iso lines of either ([`TrimEdge`], [`measure_edge`]): edges of
+//! a STEP B-rep or IGES 504 list, or trimming curves that lie on each other
+//! ([`shared_curves`]); which edges a file has is the model crate's business.
 //!
 //! ```
 //! use cadmorph_nurbs::NurbsSurface;
@@ -25,6 +27,7 @@
 //! ```
 
 mod adjacency;
+mod edge;
 mod error;
 mod measure;
 mod refine;
@@ -32,8 +35,9 @@ mod repair;
 mod seams_refine;
 
 pub use adjacency::{shared_boundaries, SharedBoundary, SideRef};
+pub use edge::{measure_edge, shared_curves, TrimCurve, TrimEdge};
 pub use error::{Error, Result};
-pub use measure::{measure_boundary, EdgeReport, Face, SeamReport, Stat};
+pub use measure::{measure_boundary, EdgeEnd, EdgeReport, Face, SeamReport, Stat, SHARP_EDGE_DEG};
 pub use refine::{deformed, morph_error, refine_for, refine_uniform, RefineOptions, Refinement, Scope};
 pub use repair::{make_compatible, repair, Repair};
-pub use seams_refine::{refine_seams, SeamRefineOptions, SeamRefinement};
+pub use seams_refine::{refine_edges, refine_seams, SeamRefineOptions, SeamRefinement};

@@ -6,6 +6,44 @@ use serde::Serialize;
 
 use crate::{SharedBoundary, SideRef};
 
+/// Edges whose faces meet at more than this normal angle (unoriented, degrees) are
+/// design creases (box edges, chines), not seams that should be smooth: they are
+/// reported, with [`EdgeReport::sharp`] set, but kept out of the G1 totals.
+pub const SHARP_EDGE_DEG: f64 = 10.0;
+
+/// One side of a measured edge: the patch, and its iso-boundary when the edge is one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+pub struct EdgeEnd {
+    /// Index of the patch.
+    pub patch: usize,
+    /// The iso-boundary, for edges found as coinciding iso-boundaries; `None` for
+    /// edges from the file's topology or from trimming curves.
+    #[serde(serialize_with = "side_name")]
+    pub side: Option<Side>,
+}
+
+impl From<SideRef> for EdgeEnd {
+    fn from(s: SideRef) -> Self {
+        Self { patch: s.patch, side: Some(s.side) }
+    }
+}
+
+fn side_name<S: serde::Serializer>(side: &Option<Side>, s: S) -> Result<S::Ok, S::Error> {
+    match side {
+        Some(side) => s.serialize_str(side_label(*side)),
+        None => s.serialize_none(),
+    }
+}
+
+pub(crate) fn side_label(side: Side) -> &'static str {
+    match side {
+        Side::UMin => "u_min",
+        Side::UMax => "u_max",
+        Side::VMin => "v_min",
+        Side::VMax => "v_max",
+    }
+}
+
 /// A face for seam measurement: its surface and whether the face's orientation is
 /// opposite to the surface's (`S_u × S_v` points inward).
 #[derive(Debug, Clone, Copy)]
@@ -41,13 +79,18 @@ pub struct Stat {
 ///   orientation (`min(a, 180° − a)`), for faces without a consistent orientation.
 /// - `c1_mismatch`: `|d_a + d_b| / max(|d_a|, |d_b|)` with `d` the outward
 ///   cross-boundary derivative of each side (`±S_u` or `±S_v`): 0 for a C1 join of
-///   two iso boundaries with matching parameter speed.
+///   two iso boundaries with matching parameter speed; `None` where either side is not
+///   an iso boundary (trimmed faces), since there is no cross-boundary derivative then.
+/// - `sharp`: the faces meet at more than [`SHARP_EDGE_DEG`], a crease by design.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct EdgeReport {
     /// First side.
-    pub a: SideRef,
+    pub a: EdgeEnd,
     /// Second side.
-    pub b: SideRef,
+    pub b: EdgeEnd,
+    /// The edge's entity in the file (`#id` in STEP, `DE n` in IGES) when the edge comes
+    /// from the file's topology or trims.
+    pub edge: Option<String>,
     /// Samples taken.
     pub samples: usize,
     /// Polyline length of the sampled edge on the first face.
@@ -61,7 +104,9 @@ pub struct EdgeReport {
     /// See the type docs.
     pub g1_angle_unoriented_deg: Stat,
     /// See the type docs.
-    pub c1_mismatch: Stat,
+    pub c1_mismatch: Option<Stat>,
+    /// See the type docs.
+    pub sharp: bool,
 }
 
 /// Every shared edge of a model, with the totals.
@@ -73,15 +118,17 @@ pub struct SeamReport {
     pub max_gap_closest: f64,
     /// Largest `gap_matched`.
     pub max_gap_matched: f64,
-    /// Largest oriented normal angle, degrees.
+    /// Largest oriented normal angle over the smooth (not sharp) edges, degrees.
     pub max_g1_angle_deg: f64,
-    /// Largest unoriented normal angle, degrees.
+    /// Largest unoriented normal angle over the smooth edges, degrees.
     pub max_g1_angle_unoriented_deg: f64,
     /// Largest relative C1 mismatch.
     pub max_c1_mismatch: f64,
+    /// Edges whose faces meet at a crease (more than [`SHARP_EDGE_DEG`]).
+    pub sharp_edges: usize,
 }
 
-struct Acc {
+pub(crate) struct Acc {
     max: f64,
     sum: f64,
     n: usize,
@@ -90,10 +137,10 @@ struct Acc {
 }
 
 impl Acc {
-    fn new() -> Self {
+    pub(crate) fn new() -> Self {
         Self { max: 0.0, sum: 0.0, n: 0, at: Point3::origin(), t: f64::NAN }
     }
-    fn add(&mut self, value: f64, at: Point3<f64>, t: f64) {
+    pub(crate) fn add(&mut self, value: f64, at: Point3<f64>, t: f64) {
         if value.is_nan() {
             return;
         }
@@ -105,7 +152,7 @@ impl Acc {
             self.t = t;
         }
     }
-    fn stat(&self) -> Stat {
+    pub(crate) fn stat(&self) -> Stat {
         Stat {
             max: self.max,
             mean: if self.n == 0 { 0.0 } else { self.sum / self.n as f64 },
@@ -137,12 +184,12 @@ fn outward(s: &NurbsSurface, side: Side, u: f64, v: f64) -> Vector3<f64> {
     }
 }
 
-fn oriented_normal(f: &Face, u: f64, v: f64) -> Option<Vector3<f64>> {
+pub(crate) fn oriented_normal(f: &Face, u: f64, v: f64) -> Option<Vector3<f64>> {
     let n = f.surface.normal(u, v)?.into_inner();
     Some(if f.reversed { -n } else { n })
 }
 
-fn angle_deg(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+pub(crate) fn angle_deg(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
     // atan2 of |a × b| and a · b stays accurate near 0° and 180°, where acos does not.
     a.cross(b).norm().atan2(a.dot(b)).to_degrees()
 }
@@ -211,16 +258,19 @@ pub fn measure_boundary(faces: &[Face], edge: &SharedBoundary, samples: usize) -
             c1.add((da + db).norm() / denom, pa, t);
         }
     }
+    let g1_angle_unoriented_deg = g1u.stat();
     EdgeReport {
-        a: edge.a,
-        b: edge.b,
+        a: edge.a.into(),
+        b: edge.b.into(),
+        edge: None,
         samples,
         length,
         gap_closest: gap_closest.stat(),
         gap_matched: gap_matched.stat(),
         g1_angle_deg: g1.stat(),
-        g1_angle_unoriented_deg: g1u.stat(),
-        c1_mismatch: c1.stat(),
+        sharp: g1_angle_unoriented_deg.max > SHARP_EDGE_DEG,
+        g1_angle_unoriented_deg,
+        c1_mismatch: (c1.n > 0).then(|| c1.stat()),
     }
 }
 
@@ -228,38 +278,46 @@ impl SeamReport {
     /// Collects edge reports and their totals.
     pub fn new(edges: Vec<EdgeReport>) -> Self {
         let max = |f: fn(&EdgeReport) -> f64| edges.iter().map(f).fold(0.0, f64::max);
+        let smooth = |f: fn(&EdgeReport) -> f64| edges.iter().filter(|e| !e.sharp).map(f).fold(0.0, f64::max);
         Self {
             max_gap_closest: max(|e| e.gap_closest.max),
             max_gap_matched: max(|e| e.gap_matched.max),
-            max_g1_angle_deg: max(|e| e.g1_angle_deg.max),
-            max_g1_angle_unoriented_deg: max(|e| e.g1_angle_unoriented_deg.max),
-            max_c1_mismatch: max(|e| e.c1_mismatch.max),
+            max_g1_angle_deg: smooth(|e| e.g1_angle_deg.max),
+            max_g1_angle_unoriented_deg: smooth(|e| e.g1_angle_unoriented_deg.max),
+            max_c1_mismatch: max(|e| e.c1_mismatch.map_or(0.0, |s| s.max)),
+            sharp_edges: edges.iter().filter(|e| e.sharp).count(),
             edges,
         }
     }
 
-    /// A table for people: one row per edge, then the totals.
+    /// A table for people: one row per edge, then the totals. Sides are `patch:u0`
+    /// (iso boundaries) or `patch` (topology edges, named in the last column); sharp
+    /// edges are marked `*` after their angle.
     pub fn table(&self) -> String {
         use std::fmt::Write;
-        let side = |s: &SideRef| {
-            let n = match s.side {
-                Side::UMin => "u0",
-                Side::UMax => "u1",
-                Side::VMin => "v0",
-                Side::VMax => "v1",
-            };
-            format!("{}:{}", s.patch, n)
+        let side = |s: &EdgeEnd| match s.side {
+            Some(side) => {
+                let n = match side {
+                    Side::UMin => "u0",
+                    Side::UMax => "u1",
+                    Side::VMin => "v0",
+                    Side::VMax => "v1",
+                };
+                format!("{}:{n}", s.patch)
+            }
+            None => s.patch.to_string(),
         };
         let mut out = String::new();
         let _ = writeln!(
             out,
-            "{:<7} {:<7} {:>10} {:>12} {:>12} {:>12} {:>10} {:>10}",
-            "face a", "face b", "length", "gap closest", "gap matched", "gap mean", "G1 (deg)", "C1 rel"
+            "{:<7} {:<7} {:>10} {:>12} {:>12} {:>12} {:>11} {:>10}  {}",
+            "face a", "face b", "length", "gap closest", "gap matched", "gap mean", "G1 (deg)", "C1 rel", "edge"
         );
         for e in &self.edges {
+            let c1 = e.c1_mismatch.map_or_else(|| "-".to_owned(), |c| format!("{:.3e}", c.max));
             let _ = writeln!(
                 out,
-                "{:<7} {:<7} {:>10.4} {:>12.4e} {:>12.4e} {:>12.4e} {:>10.4e} {:>10.3e}",
+                "{:<7} {:<7} {:>10.4} {:>12.4e} {:>12.4e} {:>12.4e} {:>10.4e}{} {:>10}  {}",
                 side(&e.a),
                 side(&e.b),
                 e.length,
@@ -267,13 +325,16 @@ impl SeamReport {
                 e.gap_matched.max,
                 e.gap_closest.mean,
                 e.g1_angle_deg.max,
-                e.c1_mismatch.max
+                if e.sharp { '*' } else { ' ' },
+                c1,
+                e.edge.as_deref().unwrap_or("")
             );
         }
         let _ = writeln!(
             out,
-            "{} shared edges; max gap closest {:.4e}, matched {:.4e}; max G1 {:.4e} deg; max C1 {:.3e}",
+            "{} shared edges ({} sharp, *); max gap closest {:.4e}, matched {:.4e}; max G1 {:.4e} deg (smooth edges); max C1 {:.3e}",
             self.edges.len(),
+            self.sharp_edges,
             self.max_gap_closest,
             self.max_gap_matched,
             self.max_g1_angle_deg,

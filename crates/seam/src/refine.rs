@@ -250,7 +250,13 @@ pub(crate) fn well_defined_normal(s: &NurbsSurface, u: f64, v: f64) -> Option<Ve
 
 /// The normal of `M ∘ S` at `(u, v)`: `(J S_u) × (J S_v)` with `J = ∂M/∂x` at `S(u, v)`
 /// (central differences where the deformation has no closed-form Jacobian).
-fn exact_normal<D: Deformation + ?Sized>(s: &NurbsSurface, d: &D, u: f64, v: f64, h: f64) -> Option<Vector3<f64>> {
+pub(crate) fn exact_normal<D: Deformation + ?Sized>(
+    s: &NurbsSurface,
+    d: &D,
+    u: f64,
+    v: f64,
+    h: f64,
+) -> Option<Vector3<f64>> {
     let e = s.eval_d1(u, v);
     let j = d.jacobian(&e.point).unwrap_or_else(|| {
         let mut j = Matrix3::zeros();

@@ -6,8 +6,8 @@ use cadmorph_nurbs::{NurbsSurface, Side, Surface};
 use serde::Serialize;
 
 use crate::measure::side_uv;
-use crate::refine::{deformed, well_defined_normal};
-use crate::SharedBoundary;
+use crate::refine::{deformed, exact_normal, well_defined_normal};
+use crate::{SharedBoundary, TrimEdge};
 
 /// Settings of [`refine_seams`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -37,9 +37,13 @@ pub struct SeamRefinement {
     pub control_points_before: usize,
     /// Control points of all patches after.
     pub control_points_after: usize,
-    /// Largest matched gap after the morph, over all edges.
+    /// Largest matched gap after the morph, over all iso edges; for trim edges, the
+    /// sum of both sides' distances from the exact morph (what the morph adds to the
+    /// gap the edge had before).
     pub max_gap: f64,
-    /// Largest normal angle after the morph, degrees (unoriented).
+    /// Largest normal angle after the morph, degrees (unoriented), over all iso edges;
+    /// for trim edges, the sum of both sides' normal deviations from the exact morph
+    /// (how far the crease or smooth join strays from what the morph makes of it).
     pub max_angle_deg: f64,
     /// Rounds run.
     pub rounds: usize,
@@ -70,6 +74,10 @@ impl Marks {
         for k in span.saturating_sub(1)..=(span + 1).min(m.len() - 1) {
             m[k] = true;
         }
+    }
+    fn at(&mut self, patch: usize, u_span: usize, v_span: usize) {
+        self.u[patch][u_span] = true;
+        self.v[patch][v_span] = true;
     }
     fn across(&mut self, patch: usize, side: Side) {
         match side {
@@ -103,6 +111,26 @@ impl Marks {
 pub fn refine_seams<D: Deformation + ?Sized>(
     patches: &mut [NurbsSurface],
     edges: &[SharedBoundary],
+    d: &D,
+    opts: &SeamRefineOptions,
+) -> SeamRefinement {
+    refine_edges(patches, edges, &[], d, opts)
+}
+
+/// [`refine_seams`] over iso edges and edges given by their curves ([`TrimEdge`]s,
+/// from a file's topology or trims) together.
+///
+/// Along a trim edge neither side has the edge as a boundary row, so the two sides are
+/// held to the exact morph separately: each edge point is projected onto each face,
+/// and where a side's moved surface misses `M ∘ S` by more than `tol / 2`, or its
+/// normal strays from the normal of `M ∘ S` by more than `angle_tol_deg / 2`, the knot
+/// spans holding that point are bisected in both directions. The gap the edge had
+/// before then grows by at most `tol`, and its angle (smooth join or crease) changes as
+/// the exact morph changes it, within `angle_tol_deg`.
+pub fn refine_edges<D: Deformation + ?Sized>(
+    patches: &mut [NurbsSurface],
+    edges: &[SharedBoundary],
+    trims: &[TrimEdge],
     d: &D,
     opts: &SeamRefineOptions,
 ) -> SeamRefinement {
@@ -156,6 +184,32 @@ pub fn refine_seams<D: Deformation + ?Sized>(
                         }
                     }
                 }
+            }
+        }
+        for e in trims {
+            let n = 8 * [e.a, e.b].iter().map(|&p| ubreaks[p].len() + vbreaks[p].len()).sum::<usize>() + 1;
+            let sides = [e.on_surface(&patches[e.a], n), e.on_surface(&patches[e.b], n)];
+            for k in 0..n {
+                let (mut gap, mut angle) = (0.0, 0.0);
+                for (side, patch) in [e.a, e.b].into_iter().enumerate() {
+                    let of = sides[side][k].2;
+                    let err = (moved[patch].eval(of.u, of.v) - d.deform_point(&of.point)).norm();
+                    let h = 1e-6 * (1.0 + of.point.coords.norm());
+                    let dev = match (
+                        well_defined_normal(&moved[patch], of.u, of.v),
+                        exact_normal(&patches[patch], d, of.u, of.v, h),
+                    ) {
+                        (Some(x), Some(y)) => x.cross(&y).norm().atan2(x.dot(&y)).to_degrees(),
+                        _ => 0.0,
+                    };
+                    gap += if err.is_nan() { f64::INFINITY } else { err };
+                    angle += dev;
+                    if !(err <= opts.tol / 2.0) || dev > opts.angle_tol_deg / 2.0 {
+                        marks.at(patch, span_of(&ubreaks[patch], of.u), span_of(&vbreaks[patch], of.v));
+                    }
+                }
+                max_gap = max_gap.max(gap);
+                max_angle = max_angle.max(angle);
             }
         }
         let done = max_gap <= opts.tol && max_angle <= opts.angle_tol_deg;

@@ -1,0 +1,192 @@
+//! Shared edges that are not iso-boundaries: edges from a file's topology (STEP B-rep
+//! `EDGE_CURVE`s, IGES 504 edge lists) and trimming curves of two faces that lie on each
+//! other (IGES 144/142 without topology).
+
+use cadmorph_nurbs::math::Point3;
+use cadmorph_nurbs::{Aabb, Curve, CurveProject, NurbsCurve, NurbsSurface, Projection, SurfaceProject};
+
+use crate::adjacency::overlap;
+use crate::measure::{angle_deg, oriented_normal, Acc, EdgeEnd, EdgeReport, Face, SHARP_EDGE_DEG};
+use crate::SharedBoundary;
+
+/// An edge shared by two faces, given by its model-space curve: the edge is the curve
+/// over `range`. Neither face needs to have the edge as an iso-boundary.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrimEdge {
+    /// Index of the first face's patch.
+    pub a: usize,
+    /// Index of the second face's patch.
+    pub b: usize,
+    /// The edge curve, world coordinates.
+    pub curve: NurbsCurve,
+    /// The edge's part of the curve's domain.
+    pub range: (f64, f64),
+    /// The entity it came from, for reports (`#12` in STEP, `DE 45` in IGES).
+    pub label: Option<String>,
+}
+
+/// A face's trimming curve (one piece of a boundary) for [`shared_curves`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrimCurve {
+    /// Index of the face's patch.
+    pub patch: usize,
+    /// The curve, world coordinates.
+    pub curve: NurbsCurve,
+    /// The entity it came from, for reports.
+    pub label: Option<String>,
+}
+
+/// Where an edge sample lies on one face: parameters and point.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct OnFace {
+    pub u: f64,
+    pub v: f64,
+    pub point: Point3<f64>,
+}
+
+impl TrimEdge {
+    /// `n ≥ 2` evenly spaced parameters over the edge, ends included.
+    pub fn params(&self, n: usize) -> impl Iterator<Item = f64> + '_ {
+        let n = n.max(2);
+        (0..n).map(move |k| self.range.0 + (self.range.1 - self.range.0) * k as f64 / (n - 1) as f64)
+    }
+
+    /// The points of the edge at [`params`](Self::params)`(n)` and the closest point on
+    /// `surface` to each, found by Newton from the previous sample's (a global search
+    /// for the first, and wherever the local answer jumps away).
+    pub(crate) fn on_surface(&self, surface: &NurbsSurface, n: usize) -> Vec<(f64, Point3<f64>, OnFace)> {
+        let pts: Vec<(f64, Point3<f64>)> = self.params(n).map(|t| (t, self.curve.eval(t))).collect();
+        let scale = pts.windows(2).map(|w| (w[1].1 - w[0].1).norm()).sum::<f64>().max(f64::MIN_POSITIVE);
+        let ptol = 1e-12 * scale;
+        let mut prev: Option<Projection> = None;
+        let mut out = Vec::with_capacity(pts.len());
+        for (t, p) in pts {
+            let pr = match prev {
+                Some(q) => {
+                    let local = surface.project_from(&p, (q.u, q.v), ptol);
+                    // A local answer farther than the last one plus the step taken is suspect.
+                    if local.distance_sq.sqrt() > q.distance_sq.sqrt() + 1e-6 * scale {
+                        let global = surface.project(&p, ptol);
+                        if global.distance_sq < local.distance_sq {
+                            global
+                        } else {
+                            local
+                        }
+                    } else {
+                        local
+                    }
+                }
+                None => surface.project(&p, ptol),
+            };
+            out.push((t, p, OnFace { u: pr.u, v: pr.v, point: pr.point }));
+            prev = Some(pr);
+        }
+        out
+    }
+
+    /// Whether this edge is `iso` seen from its curve: the same two patches, and the
+    /// edge's quarter, middle and three-quarter points lie within `tol` of the iso
+    /// edge's first side.
+    pub fn lies_on(&self, iso: &SharedBoundary, patches: &[NurbsSurface], tol: f64) -> bool {
+        let same = (iso.a.patch, iso.b.patch) == (self.a, self.b) || (iso.a.patch, iso.b.patch) == (self.b, self.a);
+        if !same {
+            return false;
+        }
+        let side = patches[iso.a.patch].boundary(iso.a.side);
+        let (lo, hi) = (iso.a_range.0.min(iso.a_range.1), iso.a_range.0.max(iso.a_range.1));
+        let slack = 1e-6 * (hi - lo).abs().max(f64::MIN_POSITIVE);
+        [0.25, 0.5, 0.75].iter().all(|f| {
+            let p = self.curve.eval(self.range.0 + (self.range.1 - self.range.0) * f);
+            let pr = side.project(&p, tol * 1e-3);
+            pr.distance_sq <= tol * tol && pr.t >= lo - slack && pr.t <= hi + slack
+        })
+    }
+}
+
+/// Measures an edge given by its curve between `faces[edge.a]` and `faces[edge.b]` at
+/// `samples` points (ends included), with the quantities of [`EdgeReport`].
+///
+/// Each edge point is taken to each face by closest-point projection, which gives the
+/// two faces' points at the same edge parameter (`gap_matched`, as OCCT's check with
+/// p-curves would pair them); `gap_closest` is the larger distance from either of those
+/// points to the other face; the G1 angle compares the oriented normals at the first
+/// face's point and its closest point on the second. `c1_mismatch` is `None`: there is
+/// no cross-boundary derivative across a trimming curve.
+pub fn measure_edge(faces: &[Face], edge: &TrimEdge, samples: usize) -> EdgeReport {
+    let samples = samples.max(2);
+    let (fa, fb) = (&faces[edge.a], &faces[edge.b]);
+    let (sa, sb) = (fa.surface, fb.surface);
+    let on_a = edge.on_surface(sa, samples);
+    let on_b = edge.on_surface(sb, samples);
+    let length = on_a.windows(2).map(|w| (w[1].1 - w[0].1).norm()).sum::<f64>();
+    let ptol = 1e-12 * length.max(f64::MIN_POSITIVE);
+    let (mut gap_closest, mut gap_matched, mut g1, mut g1u) = (Acc::new(), Acc::new(), Acc::new(), Acc::new());
+    for ((t, _, pa), (_, _, pb)) in on_a.iter().zip(&on_b) {
+        let matched = (pa.point - pb.point).norm();
+        gap_matched.add(matched, pa.point, *t);
+        let to_b = sb.project_from(&pa.point, (pb.u, pb.v), ptol);
+        let to_a = sa.project_from(&pb.point, (pa.u, pa.v), ptol);
+        let closest = to_b.distance_sq.sqrt().min(matched).max(to_a.distance_sq.sqrt().min(matched));
+        gap_closest.add(closest, pa.point, *t);
+        if let (Some(na), Some(nb)) = (oriented_normal(fa, pa.u, pa.v), oriented_normal(fb, to_b.u, to_b.v)) {
+            let a = angle_deg(&na, &nb);
+            g1.add(a, pa.point, *t);
+            g1u.add(a.min(180.0 - a), pa.point, *t);
+        }
+    }
+    let g1_angle_unoriented_deg = g1u.stat();
+    EdgeReport {
+        a: EdgeEnd { patch: edge.a, side: None },
+        b: EdgeEnd { patch: edge.b, side: None },
+        edge: edge.label.clone(),
+        samples,
+        length,
+        gap_closest: gap_closest.stat(),
+        gap_matched: gap_matched.stat(),
+        g1_angle_deg: g1.stat(),
+        sharp: g1_angle_unoriented_deg.max > SHARP_EDGE_DEG,
+        g1_angle_unoriented_deg,
+        c1_mismatch: None,
+    }
+}
+
+/// Pairs of trimming curves of different faces that lie on each other within `tol`
+/// over at least `min_fraction` of the shorter one (sampled at `samples` points): the
+/// shared edges of faces that carry no topology. Each edge is the shorter curve over
+/// its matched part; its label joins both curves' labels.
+pub fn shared_curves(curves: &[TrimCurve], tol: f64, samples: usize, min_fraction: f64) -> Vec<TrimEdge> {
+    let samples = samples.max(3);
+    let boxes: Vec<(Aabb, f64)> = curves
+        .iter()
+        .map(|c| {
+            let d = c.curve.domain();
+            let n = 32;
+            let pts: Vec<Point3<f64>> =
+                (0..=n).map(|i| c.curve.eval(d.start() + (d.end() - d.start()) * i as f64 / n as f64)).collect();
+            (c.curve.bounding_box().inflated(tol), pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum())
+        })
+        .collect();
+    let mut out = Vec::new();
+    for i in 0..curves.len() {
+        for j in i + 1..curves.len() {
+            let (a, b) = (&curves[i], &curves[j]);
+            if a.patch == b.patch || boxes[i].1 <= tol || boxes[j].1 <= tol {
+                continue;
+            }
+            if boxes[i].0.intersection(&boxes[j].0).is_none() {
+                continue;
+            }
+            let (short, long) = if boxes[i].1 <= boxes[j].1 { (a, b) } else { (b, a) };
+            let Some((range, _)) = overlap(&short.curve, &long.curve, tol, samples, min_fraction) else {
+                continue;
+            };
+            let label = match (&a.label, &b.label) {
+                (Some(x), Some(y)) => Some(format!("{x} / {y}")),
+                (x, y) => x.clone().or_else(|| y.clone()),
+            };
+            let range = (range.0.min(range.1), range.0.max(range.1));
+            out.push(TrimEdge { a: a.patch, b: b.patch, curve: short.curve.clone(), range, label });
+        }
+    }
+    out
+}
