@@ -2,15 +2,16 @@
 
 use std::collections::BTreeMap;
 use std::fmt;
+use std::ops::RangeInclusive;
 use std::path::Path;
 
 use cadmorph_iges as iges;
 use cadmorph_morph::Deformation;
 use cadmorph_nurbs::math::Point3;
-use cadmorph_nurbs::NurbsSurface;
+use cadmorph_nurbs::{NurbsSurface, Surface};
 use cadmorph_seam::{
-    make_compatible, measure_boundary, measure_edge, refine_edges, refine_uniform, repair, shared_boundaries, Face,
-    SeamRefineOptions, SeamRefinement, SeamReport, SharedBoundary, TrimEdge,
+    make_compatible, measure_boundary, measure_edge, measure_edge_samples, refine_edges, refine_uniform, repair,
+    shared_boundaries, EdgeSamples, Face, SeamRefineOptions, SeamRefinement, SeamReport, SharedBoundary, TrimEdge,
 };
 use cadmorph_step as step;
 use serde::Serialize;
@@ -341,6 +342,20 @@ impl Model {
         &self.trims
     }
 
+    /// The seams after a morph: iso edges found again, trim edges at the face parameters
+    /// they had before (`samples`), when the faces kept their parameter domains;
+    /// otherwise the trim edges found again.
+    fn seams_at(&self, samples: &[EdgeSamples], domains: &[(RangeInclusive<f64>, RangeInclusive<f64>)]) -> SeamReport {
+        let now: Vec<_> = self.patches.iter().map(|p| p.surface.domain()).collect();
+        if now != domains {
+            return self.seams(200);
+        }
+        let faces: Vec<Face> =
+            self.patches.iter().map(|p| Face { surface: &p.surface, reversed: p.reversed }).collect();
+        let iso = self.iso.iter().map(|e| measure_boundary(&faces, e, 200));
+        SeamReport::new(iso.chain(samples.iter().map(|s| measure_edge_samples(&faces, s))).collect())
+    }
+
     /// Measures every shared edge, iso-boundary and trim edges, with `samples` points.
     pub fn seams(&self, samples: usize) -> SeamReport {
         seams_of(&self.patches, &self.iso, &self.trims, samples)
@@ -423,6 +438,12 @@ impl Model {
     pub fn morph(&mut self, d: &dyn Deformation, opts: &MorphOptions) -> Result<MorphOutcome> {
         let edges = self.iso.clone();
         let seams_before = self.seams(200);
+        // Where the trim edges lie on their faces, in the faces' parameters: the seams
+        // after the morph are measured there, between the faces' own trimmed boundaries.
+        let faces: Vec<Face> =
+            self.patches.iter().map(|p| Face { surface: &p.surface, reversed: p.reversed }).collect();
+        let trim_samples: Vec<EdgeSamples> = self.trims.iter().map(|e| e.samples(&faces, 200)).collect();
+        let domains: Vec<_> = self.patches.iter().map(|p| p.surface.domain()).collect();
         let before: usize = self.patches.iter().map(|p| p.surface.control_points().len()).sum();
         let mut patches: Vec<NurbsSurface> = self.patches.iter().map(|p| p.surface.clone()).collect();
         if opts.repair {
@@ -467,7 +488,7 @@ impl Model {
             }
         }
         let (faces_rewritten, curves_rewritten) = match &mut self.doc {
-            Doc::Iges(doc) => write_iges(doc, &self.patches, &patches, d)?,
+            Doc::Iges(doc) => write_iges(doc, &self.patches, &refined, &patches, d)?,
             Doc::Step(doc) => write_step(doc, &self.patches, &refined, &patches, d, opts.repair)?,
         };
         // Read the written document back: the report describes what was written.
@@ -480,7 +501,7 @@ impl Model {
             curves_rewritten,
             refinement,
             seams_before,
-            seams_after: self.seams(200),
+            seams_after: self.seams_at(&trim_samples, &domains),
         })
     }
 }
@@ -505,14 +526,60 @@ fn moved_by(d: &dyn Deformation, pts: &[Point3<f64>]) -> bool {
     pts.iter().any(|p| d.deform_point(p) != *p)
 }
 
+/// The knots `refined` has beyond `base` in each direction, to insert into `target`
+/// (another copy of `base`'s geometry, such as the B-spline an analytic face becomes);
+/// `None` when `target` does not have `base`'s knots, so the insertion would not mean
+/// the same there.
+fn inserted_knots(base: &NurbsSurface, refined: &NurbsSurface, target: &NurbsSurface) -> Option<(Vec<f64>, Vec<f64>)> {
+    let same = |a: &cadmorph_nurbs::KnotVector, b: &cadmorph_nurbs::KnotVector| {
+        a.len() == b.len()
+            && a.as_slice().iter().zip(b.as_slice()).all(|(x, y)| (x - y).abs() <= 1e-12 * (1.0 + x.abs()))
+    };
+    if base.u_degree() != target.u_degree()
+        || base.v_degree() != target.v_degree()
+        || !same(base.u_knots(), target.u_knots())
+        || !same(base.v_knots(), target.v_knots())
+    {
+        return None;
+    }
+    let extra = |from: &[f64], to: &[f64]| {
+        let mut out = Vec::new();
+        let mut i = 0;
+        for &k in to {
+            if i < from.len() && from[i] == k {
+                i += 1;
+            } else {
+                out.push(k);
+            }
+        }
+        out
+    };
+    Some((
+        extra(base.u_knots().as_slice(), refined.u_knots().as_slice()),
+        extra(base.v_knots().as_slice(), refined.v_knots().as_slice()),
+    ))
+}
+
+/// `target` with the knots the refinement of `base` into `refined` added.
+fn refined_like(base: &NurbsSurface, refined: &NurbsSurface, target: &NurbsSurface) -> NurbsSurface {
+    let mut out = target.clone();
+    if let Some((xu, xv)) = inserted_knots(base, refined, target) {
+        if out.refine_u(&xu).is_err() || out.refine_v(&xv).is_err() {
+            return target.clone();
+        }
+    }
+    out
+}
+
 fn write_iges(
     doc: &mut iges::Document,
     old: &[Patch],
+    refined: &[NurbsSurface],
     new: &[NurbsSurface],
     d: &dyn Deformation,
 ) -> Result<(usize, usize)> {
     let mut faces = 0;
-    for (p, s) in old.iter().zip(new) {
+    for ((p, r), s) in old.iter().zip(refined).zip(new) {
         let Source::Iges { surface, .. } = p.source else { continue };
         let id = iges::EntityId(surface);
         if s == &p.surface {
@@ -525,7 +592,9 @@ fn write_iges(
                 continue;
             }
             doc.replace_with_bspline(id)?;
-            let mut b = doc.surface(id)?.surface;
+            // The refinement (seam-driven or uniform) carries over where the B-spline the
+            // entity becomes has the knots of the patch it was planned on.
+            let mut b = refined_like(&p.surface, r, &doc.surface(id)?.surface);
             d.deform(b.control_points_mut());
             doc.set_bspline_surface(id, &b)?;
         } else {
@@ -591,13 +660,32 @@ fn write_step(
             }
         }
     }
+    let mut replaced = Vec::new();
     for f in &faces {
         let analytic = !matches!(f.kind, step::SurfaceKind::BSpline { .. });
         if analytic {
             if let Ok(ws) = doc.face_nurbs(f) {
                 if moved_by(d, ws.surface.control_points()) {
                     doc.replace_with_bspline(f)?;
+                    replaced.push((f.id, f.occurrence));
                 }
+            }
+        }
+    }
+    // Carry the refinement planned on each replaced face's patch over to its new B-spline.
+    if !replaced.is_empty() {
+        for g in doc.faces()? {
+            if !replaced.contains(&(g.id, g.occurrence)) {
+                continue;
+            }
+            let source = Source::Step { face: g.id.0, surface: g.surface.0 };
+            let Some((p, r)) = old.iter().zip(refined).find(|(p, r)| p.source == source && p.surface != **r) else {
+                continue;
+            };
+            let b = doc.face_nurbs(&g)?.surface;
+            let target = refined_like(&p.surface, r, &b);
+            if target != b {
+                doc.set_face_surface(&g, &target)?;
             }
         }
     }

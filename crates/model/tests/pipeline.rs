@@ -187,6 +187,31 @@ fn every_face_of_the_mixed_solid_moves() {
     }
 }
 
+/// Under a non-affine FFD, moving control points of coarse patches (planes are 2x2) opens
+/// the solid's trim edges; refinement along the topology edges, carried over to the
+/// B-splines the analytic faces become, keeps every side within the tolerance of the
+/// exact morph, and the seams stay closed.
+#[test]
+fn mixed_solid_refinement_keeps_topology_edges_closed() {
+    for name in ["mixed_solid.stp", "mixed_solid_brep.igs", "mixed_solid.igs"] {
+        let m = open(name);
+        let ffd = solid_ffd(&m);
+        let size = m.size();
+        let tol = 1e-4 * size;
+        let mut plain = open(name);
+        let none = plain.morph(&ffd, &MorphOptions::default()).unwrap();
+        let mut refined = open(name);
+        let opts = MorphOptions { refine: Some(SeamRefineOptions::new(tol, 0.5)), ..Default::default() };
+        let r = refined.morph(&ffd, &opts).unwrap();
+        let refinement = r.refinement.as_ref().unwrap();
+        assert!(refinement.converged, "{name}: {refinement:?}");
+        assert!(none.seams_after.max_gap_closest > 10.0 * tol, "{name}: {}", none.seams_after.max_gap_closest);
+        assert!(r.seams_after.max_gap_closest <= tol, "{name}: {}", r.seams_after.max_gap_closest);
+        assert!(r.control_points_after > none.control_points_after, "{name}");
+        assert_eq!(r.seams_after.edges.len(), 29, "{name}");
+    }
+}
+
 #[test]
 #[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
 fn occt_reads_morphed_files() {

@@ -3,7 +3,7 @@
 //! other (IGES 144/142 without topology).
 
 use cadmorph_nurbs::math::Point3;
-use cadmorph_nurbs::{Aabb, Curve, CurveProject, NurbsCurve, NurbsSurface, Projection, SurfaceProject};
+use cadmorph_nurbs::{Aabb, Curve, CurveProject, NurbsCurve, NurbsSurface, Projection, Surface, SurfaceProject};
 
 use crate::adjacency::overlap;
 use crate::measure::{angle_deg, oriented_normal, Acc, EdgeEnd, EdgeReport, Face, SHARP_EDGE_DEG};
@@ -103,6 +103,37 @@ impl TrimEdge {
     }
 }
 
+/// Where the samples of a [`TrimEdge`] lie on its two faces: what [`measure_edge`]
+/// measures, kept so that the same surface points can be measured again after the
+/// faces move (their parameters are those of the faces, which a morph of control
+/// points keeps, so the samples follow the faces as trimming curves in parameter space
+/// do).
+#[derive(Debug, Clone, PartialEq)]
+pub struct EdgeSamples {
+    /// First patch.
+    pub a: usize,
+    /// Second patch.
+    pub b: usize,
+    /// The edge's entity in the file.
+    pub label: Option<String>,
+    /// Edge parameter, then `(u, v)` on the first and on the second face.
+    pub at: Vec<(f64, (f64, f64), (f64, f64))>,
+}
+
+impl TrimEdge {
+    /// The edge's `n` samples taken to both faces by closest-point projection.
+    pub fn samples(&self, faces: &[Face], n: usize) -> EdgeSamples {
+        let on_a = self.on_surface(faces[self.a].surface, n);
+        let on_b = self.on_surface(faces[self.b].surface, n);
+        EdgeSamples {
+            a: self.a,
+            b: self.b,
+            label: self.label.clone(),
+            at: on_a.iter().zip(&on_b).map(|((t, _, pa), (_, _, pb))| (*t, (pa.u, pa.v), (pb.u, pb.v))).collect(),
+        }
+    }
+}
+
 /// Measures an edge given by its curve between `faces[edge.a]` and `faces[edge.b]` at
 /// `samples` points (ends included), with the quantities of [`EdgeReport`].
 ///
@@ -113,33 +144,39 @@ impl TrimEdge {
 /// face's point and its closest point on the second. `c1_mismatch` is `None`: there is
 /// no cross-boundary derivative across a trimming curve.
 pub fn measure_edge(faces: &[Face], edge: &TrimEdge, samples: usize) -> EdgeReport {
-    let samples = samples.max(2);
-    let (fa, fb) = (&faces[edge.a], &faces[edge.b]);
+    measure_edge_samples(faces, &edge.samples(faces, samples))
+}
+
+/// [`measure_edge`] at given face parameters: after a morph that moved the faces'
+/// control points, the samples taken before it measure the gap the morph opened
+/// between the faces' own trimmed boundaries, whatever the file's edge curve does.
+pub fn measure_edge_samples(faces: &[Face], s: &EdgeSamples) -> EdgeReport {
+    let (fa, fb) = (&faces[s.a], &faces[s.b]);
     let (sa, sb) = (fa.surface, fb.surface);
-    let on_a = edge.on_surface(sa, samples);
-    let on_b = edge.on_surface(sb, samples);
-    let length = on_a.windows(2).map(|w| (w[1].1 - w[0].1).norm()).sum::<f64>();
+    let pts: Vec<(Point3<f64>, Point3<f64>)> =
+        s.at.iter().map(|(_, (ua, va), (ub, vb))| (sa.eval(*ua, *va), sb.eval(*ub, *vb))).collect();
+    let length = pts.windows(2).map(|w| (w[1].0 - w[0].0).norm()).sum::<f64>();
     let ptol = 1e-12 * length.max(f64::MIN_POSITIVE);
     let (mut gap_closest, mut gap_matched, mut g1, mut g1u) = (Acc::new(), Acc::new(), Acc::new(), Acc::new());
-    for ((t, _, pa), (_, _, pb)) in on_a.iter().zip(&on_b) {
-        let matched = (pa.point - pb.point).norm();
-        gap_matched.add(matched, pa.point, *t);
-        let to_b = sb.project_from(&pa.point, (pb.u, pb.v), ptol);
-        let to_a = sa.project_from(&pb.point, (pa.u, pa.v), ptol);
+    for ((t, (ua, va), (ub, vb)), (pa, pb)) in s.at.iter().zip(&pts) {
+        let matched = (pa - pb).norm();
+        gap_matched.add(matched, *pa, *t);
+        let to_b = sb.project_from(pa, (*ub, *vb), ptol);
+        let to_a = sa.project_from(pb, (*ua, *va), ptol);
         let closest = to_b.distance_sq.sqrt().min(matched).max(to_a.distance_sq.sqrt().min(matched));
-        gap_closest.add(closest, pa.point, *t);
-        if let (Some(na), Some(nb)) = (oriented_normal(fa, pa.u, pa.v), oriented_normal(fb, to_b.u, to_b.v)) {
+        gap_closest.add(closest, *pa, *t);
+        if let (Some(na), Some(nb)) = (oriented_normal(fa, *ua, *va), oriented_normal(fb, to_b.u, to_b.v)) {
             let a = angle_deg(&na, &nb);
-            g1.add(a, pa.point, *t);
-            g1u.add(a.min(180.0 - a), pa.point, *t);
+            g1.add(a, *pa, *t);
+            g1u.add(a.min(180.0 - a), *pa, *t);
         }
     }
     let g1_angle_unoriented_deg = g1u.stat();
     EdgeReport {
-        a: EdgeEnd { patch: edge.a, side: None },
-        b: EdgeEnd { patch: edge.b, side: None },
-        edge: edge.label.clone(),
-        samples,
+        a: EdgeEnd { patch: s.a, side: None },
+        b: EdgeEnd { patch: s.b, side: None },
+        edge: s.label.clone(),
+        samples: s.at.len(),
         length,
         gap_closest: gap_closest.stat(),
         gap_matched: gap_matched.stat(),

@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use crate::measure::side_uv;
 use crate::refine::{deformed, exact_normal, well_defined_normal};
-use crate::{SharedBoundary, TrimEdge};
+use crate::{SharedBoundary, TrimEdge, SHARP_EDGE_DEG};
 
 /// Settings of [`refine_seams`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -41,9 +41,11 @@ pub struct SeamRefinement {
     /// sum of both sides' distances from the exact morph (what the morph adds to the
     /// gap the edge had before).
     pub max_gap: f64,
-    /// Largest normal angle after the morph, degrees (unoriented), over all iso edges;
-    /// for trim edges, the sum of both sides' normal deviations from the exact morph
-    /// (how far the crease or smooth join strays from what the morph makes of it).
+    /// Largest normal angle after the morph, degrees (unoriented), over the smooth iso
+    /// edges; for trim edges and creases (sides meeting at more than
+    /// [`SHARP_EDGE_DEG`](crate::SHARP_EDGE_DEG)), the sum of both sides' normal
+    /// deviations from the exact morph (how far the crease or smooth join strays from
+    /// what the morph makes of it).
     pub max_angle_deg: f64,
     /// Rounds run.
     pub rounds: usize,
@@ -137,6 +139,30 @@ pub fn refine_edges<D: Deformation + ?Sized>(
     let count = |p: &[NurbsSurface]| p.iter().map(|s| s.control_points().len()).sum::<usize>();
     let before = count(patches);
     let mut rounds = 0;
+    // Creases: edges whose sides meet at more than SHARP_EDGE_DEG somewhere (the angle
+    // may fall along the edge, as where a loft's side faces meet its cap); refinement
+    // keeps their angle as the morph makes it, not at zero. Knots do not change the
+    // geometry, so this holds for every round.
+    let crease: Vec<bool> = edges
+        .iter()
+        .map(|e| {
+            (0..33).any(|k| {
+                let ta = e.a_range.0 + (e.a_range.1 - e.a_range.0) * k as f64 / 32.0;
+                let (ua, va) = side_uv(&patches[e.a.patch], e.a.side, ta);
+                let (ub, vb) = side_uv(&patches[e.b.patch], e.b.side, e.b_param(ta));
+                match (
+                    well_defined_normal(&patches[e.a.patch], ua, va),
+                    well_defined_normal(&patches[e.b.patch], ub, vb),
+                ) {
+                    (Some(x), Some(y)) => {
+                        let t = x.cross(&y).norm().atan2(x.dot(&y)).to_degrees();
+                        t.min(180.0 - t) > SHARP_EDGE_DEG
+                    }
+                    _ => false,
+                }
+            })
+        })
+        .collect();
     loop {
         let moved: Vec<NurbsSurface> = patches.iter().map(|s| deformed(s, d)).collect();
         let ubreaks: Vec<Vec<f64>> = patches.iter().map(|s| spans(s, true)).collect();
@@ -146,7 +172,7 @@ pub fn refine_edges<D: Deformation + ?Sized>(
             v: vbreaks.iter().map(|b| vec![false; b.len() - 1]).collect(),
         };
         let (mut max_gap, mut max_angle): (f64, f64) = (0.0, 0.0);
-        for e in edges {
+        for (ei, e) in edges.iter().enumerate() {
             let (a, b) = (e.a.patch, e.b.patch);
             let along = |patch: usize, side: Side| {
                 if matches!(side, Side::UMin | Side::UMax) {
@@ -167,7 +193,28 @@ pub fn refine_edges<D: Deformation + ?Sized>(
                     marks.along(a, e.a.side, span_of(along(a, e.a.side), ta));
                     marks.along(b, e.b.side, span_of(along(b, e.b.side), tb));
                 }
-                if let (Some(na), Some(nb)) =
+                // A crease (the sides meet at an angle by design): each side's normal is
+                // held to the exact morph's instead, as along trim edges.
+                if crease[ei] {
+                    let mut dev_sum = 0.0;
+                    for (patch, side, (u, v)) in [(a, e.a.side, (ua, va)), (b, e.b.side, (ub, vb))] {
+                        let p = patches[patch].eval(u, v);
+                        let h = 1e-6 * (1.0 + p.coords.norm());
+                        if let (Some(x), Some(y)) =
+                            (well_defined_normal(&moved[patch], u, v), exact_normal(&patches[patch], d, u, v, h))
+                        {
+                            let dev = x.cross(&y).norm().atan2(x.dot(&y)).to_degrees();
+                            dev_sum += dev;
+                            if dev > opts.angle_tol_deg / 2.0 {
+                                // The normal depends on the tangent along the edge too.
+                                marks.across(patch, side);
+                                let t = if patch == a { ta } else { tb };
+                                marks.along(patch, side, span_of(along(patch, side), t));
+                            }
+                        }
+                    }
+                    max_angle = max_angle.max(dev_sum);
+                } else if let (Some(na), Some(nb)) =
                     (well_defined_normal(&moved[a], ua, va), well_defined_normal(&moved[b], ub, vb))
                 {
                     let angle = na.cross(&nb).norm().atan2(na.dot(&nb)).to_degrees();
