@@ -36,6 +36,9 @@ use crate::document::{Document, EntityId};
 use crate::entity::View;
 use crate::error::{Error, Result};
 
+mod conic;
+pub mod offset;
+
 /// Deepest chain of 124 matrices or of nested curves followed.
 const MAX_DEPTH: usize = 64;
 /// Most curve entities visited to convert one curve (composite curves may repeat pieces).
@@ -232,9 +235,14 @@ impl Document {
                 let circle = Circle::try_new(frame, r).map_err(&g)?;
                 vec![circle.to_nurbs(t0..=t1).map_err(&g)?.curve]
             }
+            // Hyperbolas and parabolas (and form 0, classified by its coefficients).
+            View::ConicArc(c) if c.form != 1 => vec![conic::conic_arc(&c).map_err(|why| match why {
+                conic::ConicError::Invalid(reason) => unsupported(self, id, reason),
+                conic::ConicError::Geometry(source) => g(source),
+            })?],
             View::ConicArc(c) => {
                 let [a, b, cc, d, e, f] = c.coefficients;
-                if c.form != 1 || b != 0.0 || d != 0.0 || e != 0.0 || a == 0.0 || cc == 0.0 {
+                if b != 0.0 || d != 0.0 || e != 0.0 || a == 0.0 || cc == 0.0 {
                     return Err(unsupported(self, id, "only ellipses in standard position (form 1) are converted"));
                 }
                 let (ra, rb) = ((-f / a).sqrt(), (-f / cc).sqrt());
