@@ -29,8 +29,8 @@ use cadmorph_nurbs::analytic::{
     AnalyticCurve, AnalyticSurface, Circle, Cone, Cylinder, ExactSurface, Extrusion, ParamMap, Placement, Revolution,
     Sphere, Torus,
 };
-use cadmorph_nurbs::{Curve, KnotVector, NurbsCurve, NurbsSurface};
-use nalgebra::{Matrix4, Point3, Vector3};
+use cadmorph_nurbs::{Curve, KnotVector, NurbsCurve, NurbsSurface, Surface};
+use nalgebra::{Matrix3, Matrix4, Point3, Vector3};
 
 use crate::document::{Document, EntityId};
 use crate::entity::View;
@@ -73,6 +73,25 @@ pub struct SurfaceInfo {
     pub trimmed: bool,
     /// The exact NURBS form's degrees, pole counts and rationality, or why there is none.
     pub nurbs: std::result::Result<NurbsInfo, Error>,
+}
+
+/// What [`Document::offset_surface`] returns.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OffsetSurfaceNurbs {
+    /// The offset surface with the base's parameter maps.
+    pub surface: ExactSurface,
+    /// Whether it is exact (analytic base) rather than approximated.
+    pub exact: bool,
+    /// Largest deviation from the true offset on the check grid (0 when exact).
+    pub max_error: f64,
+    /// The tolerance of the approximation (0 when exact).
+    pub tolerance: f64,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct FitNumbers {
+    max_error: f64,
+    tolerance: f64,
 }
 
 /// Degrees, pole counts and rationality of a NURBS surface.
@@ -450,9 +469,177 @@ impl Document {
             View::TrimmedSurface(t) => self.child_surface(t.surface, hint, depth)?,
             View::BoundedSurface(b) => self.child_surface(b.surface, hint, depth)?,
             View::Face(f) => self.child_surface(f.surface, hint, depth)?,
-            View::OffsetSurface(_) => return Err(unsupported(self, id, "offset surfaces have no exact NURBS form")),
+            View::OffsetSurface(o) => self.offset_local(id, &o, hint, depth, None)?.0,
             _ => return Err(unsupported(self, id, "not a surface entity")),
         })
+    }
+
+    /// The 140 offset surface `id` in model space (its transformation applied, extent from
+    /// the face that uses it as for [`surface`](Self::surface)), with how close it is.
+    ///
+    /// Offsets of planes (108, 190), cylinders (192), cones (194, when the face does not
+    /// reach the apex), spheres (196) and tori (198) under a rigid 124 are exact: the same
+    /// kind of surface with its radius or origin moved (`max_error` 0). Any other base is
+    /// approximated by [`offset::approximate_offset`] within `tolerance` (default
+    /// [`offset::DEFAULT_RELATIVE_TOLERANCE`] × the base's size), in the base's
+    /// parameterisation: `(u, v)` maps to the NURBS as for the base surface, like OCCT's
+    /// `Geom_OffsetSurface`. The offset is `S + D·N` with `N = S_u × S_v / |S_u × S_v|` of
+    /// the base as converted here, which is OCCT's normal (but see the module notes on a
+    /// 120 under a reflecting matrix); like OCCT, the offset indicator `(NX, NY, NZ)` does
+    /// not change the side (IGES 5.3 §4.20 defines the offset through `D` and `N`).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Unsupported`] when `id` is not a 140, its base has no normal somewhere
+    /// (`offset::OffsetError::DegenerateNormal`), an exact offset passes through the axis or
+    /// centre (radius + D ≤ 0), or the approximation does not reach the tolerance; those of
+    /// [`surface`](Self::surface) for the base.
+    pub fn offset_surface(&self, id: EntityId, tolerance: Option<f64>) -> Result<OffsetSurfaceNurbs> {
+        let View::OffsetSurface(o) = self.view(id)? else {
+            return Err(unsupported(self, id, "not an offset surface (140)"));
+        };
+        let face = self.faces().into_iter().find(|f| f.surface == id && f.face != id);
+        let hint = match face {
+            Some(f) => self.boundary_points(f.face)?,
+            None => Vec::new(),
+        };
+        let m = self.transform(id)?;
+        let inv = m.try_inverse().ok_or(Error::Transform { de: id.0, reason: "singular transformation matrix" })?;
+        let local_hint: Vec<Point3<f64>> = hint.iter().map(|p| inv.transform_point(p)).collect();
+        let (mut s, fit) = self.offset_local(id, &o, &local_hint, 0, tolerance)?;
+        if m != Matrix4::identity() {
+            s.surface.transform_by(&m);
+        }
+        let (max_error, tolerance) = fit.map_or((0.0, 0.0), |f| (f.max_error, f.tolerance));
+        Ok(OffsetSurfaceNurbs { surface: s, exact: fit.is_none(), max_error, tolerance })
+    }
+
+    /// The 140 in its definition space, and the fit's numbers when approximated.
+    fn offset_local(
+        &self,
+        id: EntityId,
+        o: &crate::entity::OffsetSurface,
+        hint: &[Point3<f64>],
+        depth: usize,
+        tolerance: Option<f64>,
+    ) -> Result<(ExactSurface, Option<FitNumbers>)> {
+        let d = o.distance;
+        if !d.is_finite() {
+            return Err(unsupported(self, id, "offset surface with a non-finite distance"));
+        }
+        let base = o.surface;
+        let mb = self.transform(base)?;
+        let lin: Matrix3<f64> = mb.fixed_view::<3, 3>(0, 0).into_owned();
+        let rigid = (lin.transpose() * lin - Matrix3::identity()).abs().max() <= 1e-12;
+        if rigid && depth < MAX_DEPTH {
+            let inv =
+                mb.try_inverse().ok_or(Error::Transform { de: base.0, reason: "singular transformation matrix" })?;
+            let local: Vec<Point3<f64>> = hint.iter().map(|p| inv.transform_point(p)).collect();
+            // A reflection turns the normal: offset the untransformed base the other way.
+            let dl = if lin.determinant() < 0.0 { -d } else { d };
+            if let Some(mut s) = self.exact_offset(id, base, dl, &local, depth + 1)? {
+                if mb != Matrix4::identity() {
+                    s.surface.transform_by(&mb);
+                }
+                return Ok((s, None));
+            }
+        }
+        let b = self.child_surface(base, hint, depth)?;
+        let tol = tolerance.unwrap_or(offset::DEFAULT_RELATIVE_TOLERANCE * offset::size(&b.surface));
+        let fit = offset::approximate_offset(&b.surface, d, tol).map_err(|e| match e {
+            offset::OffsetError::DegenerateNormal { .. } => unsupported(
+                self,
+                id,
+                "offset surface: the base surface has no normal at some point (a pole or collapsed edge with no limit normal)",
+            ),
+            offset::OffsetError::NotConverged { .. } => unsupported(
+                self,
+                id,
+                "offset surface: the B-spline approximation did not reach its tolerance (the offset folds, or is too detailed)",
+            ),
+            offset::OffsetError::BadInput => unsupported(self, id, "offset surface: non-finite distance or bad tolerance"),
+            offset::OffsetError::Geometry(source) => Error::Geometry { de: id.0, source },
+        })?;
+        let numbers = FitNumbers { max_error: fit.max_error, tolerance: fit.tolerance };
+        Ok((ExactSurface { surface: fit.surface, u_map: b.u_map, v_map: b.v_map }, Some(numbers)))
+    }
+
+    /// The exact offset by `d` of an analytic base in the base's definition space, or
+    /// `None` when the base is not one with an exact offset.
+    fn exact_offset(
+        &self,
+        id: EntityId,
+        base: EntityId,
+        d: f64,
+        hint: &[Point3<f64>],
+        depth: usize,
+    ) -> Result<Option<ExactSurface>> {
+        let g = geometry(id);
+        let through = || unsupported(self, id, "offset surface: the distance takes the radius to zero or below");
+        Ok(Some(match self.view(base)? {
+            View::Plane(_) | View::PlaneSurface(_) => {
+                let mut s = self.surface_local(base, hint, depth)?;
+                let (ud, vd) = s.surface.domain();
+                let n = s
+                    .surface
+                    .normal((ud.start() + ud.end()) / 2.0, (vd.start() + vd.end()) / 2.0)
+                    .ok_or_else(|| unsupported(self, id, "offset surface: the base plane has no normal"))?;
+                for p in s.surface.control_points_mut() {
+                    *p += n.into_inner() * d;
+                }
+                s
+            }
+            View::CylindricalSurface(cy) => {
+                let frame = self.frame(p_or(cy.location), cy.axis, cy.reference, &g)?;
+                let r = cy.radius + d;
+                if !(r > 0.0) {
+                    return Err(through());
+                }
+                let cyl = Cylinder::try_new(frame, r).map_err(&g)?;
+                let (v0, v1) = axial_range(self, id, &frame, hint, 1.0)?;
+                cyl.to_nurbs(0.0..=TAU, v0..=v1).map_err(&g)?
+            }
+            View::ConicalSurface(co) => {
+                // S + d N with N = cos a·X_r − sin a·Z (where R + v sin a > 0): the cone with
+                // the same angle, radius R + d cos a, origin moved by −d sin a along the axis.
+                let frame = self.frame(p_or(co.location), co.axis, co.reference, &g)?;
+                let a = co.semi_angle_degrees.to_radians();
+                let r = co.radius + d * a.cos();
+                let o = frame.origin() - frame.z_dir() * (d * a.sin());
+                let moved = Placement::try_new(o, frame.z_dir(), frame.x_dir()).map_err(&g)?;
+                let (v0, v1) = axial_range(self, id, &moved, hint, a.cos())?;
+                // The base must stay on one side of its apex for the offset to be a cone.
+                let rho = |v: f64| r + v * a.sin();
+                if !(r >= 0.0 && rho(v0) > d * a.cos() && rho(v1) > d * a.cos()) {
+                    return Ok(None);
+                }
+                let cone = Cone::try_new(moved, r, a).map_err(&g)?;
+                cone.to_nurbs(0.0..=TAU, v0..=v1).map_err(&g)?
+            }
+            View::SphericalSurface(sp) => {
+                let o = self.point_of(sp.center)?;
+                let frame = match sp.axis {
+                    Some(ax) => self.frame(o.into(), ax, sp.reference, &g)?,
+                    None => Placement::try_new(o, Vector3::z(), Vector3::x()).map_err(&g)?,
+                };
+                let r = sp.radius + d;
+                if !(r > 0.0) {
+                    return Err(through());
+                }
+                let s = Sphere::try_new(frame, r).map_err(&g)?;
+                s.to_nurbs(0.0..=TAU, -FRAC_PI_2..=FRAC_PI_2).map_err(&g)?
+            }
+            View::ToroidalSurface(t) => {
+                let frame = self.frame(p_or(t.center), t.axis, t.reference, &g)?;
+                let r = t.minor_radius + d;
+                if !(r > 0.0) {
+                    return Err(through());
+                }
+                let s = Torus::try_new(frame, t.major_radius, r).map_err(&g)?;
+                s.to_nurbs(0.0..=TAU, -PI..=PI).map_err(&g)?
+            }
+            _ => return Ok(None),
+        }))
     }
 
     /// A child surface mapped into the parent's definition space.

@@ -82,15 +82,6 @@ pub(crate) fn relative_residual(k: &[f64; 6], x: f64, y: f64) -> f64 {
     }
 }
 
-/// `|Q(x, y)| / |∇Q(x, y)|`: the distance of `(x, y)` from the conic to first order
-/// (infinite at the centre of a hyperbola, where the gradient vanishes).
-pub(crate) fn conic_distance(k: &[f64; 6], x: f64, y: f64) -> f64 {
-    let q = k[0] * x * x + k[1] * x * y + k[2] * y * y + k[3] * x + k[4] * y + k[5];
-    let gx = 2.0 * k[0] * x + k[1] * y + k[3];
-    let gy = k[1] * x + 2.0 * k[2] * y + k[4];
-    q.abs() / gx.hypot(gy)
-}
-
 /// The 104 arc of form 2 (hyperbola), 3 (parabola) or 0 (classified by `B² − 4AC`) as
 /// an exact rational quadratic B-spline in the plane `z = ZT` of its definition space.
 pub(crate) fn conic_arc(c: &ConicArc) -> Result<NurbsCurve, ConicError> {
@@ -220,6 +211,15 @@ fn halve(s: &[Vector3<f64>; 3]) -> [[Vector3<f64>; 3]; 2] {
 mod tests {
     use super::*;
     use cadmorph_nurbs::Curve;
+
+    /// `|Q(x, y)| / |∇Q(x, y)|`: the distance of `(x, y)` from the conic to first order
+    /// (infinite at the centre of a hyperbola, where the gradient vanishes).
+    fn conic_distance(k: &[f64; 6], x: f64, y: f64) -> f64 {
+        let q = k[0] * x * x + k[1] * x * y + k[2] * y * y + k[3] * x + k[4] * y + k[5];
+        let gx = 2.0 * k[0] * x + k[1] * y + k[3];
+        let gy = k[1] * x + 2.0 * k[2] * y + k[4];
+        q.abs() / gx.hypot(gy)
+    }
 
     fn arc(form: i64, k: [f64; 6], start: [f64; 2], end: [f64; 2]) -> ConicArc {
         ConicArc { form, coefficients: k, z: 0.5, start, end }
