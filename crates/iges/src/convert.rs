@@ -546,8 +546,8 @@ impl Document {
         }
         let b = self.child_surface(base, hint, depth)?;
         // (A base of size 0 has no normal: that error, not a bad tolerance.)
-        let tol = tolerance
-            .unwrap_or((offset::DEFAULT_RELATIVE_TOLERANCE * offset::size(&b.surface)).max(f64::MIN_POSITIVE));
+        let tol =
+            tolerance.unwrap_or((offset::DEFAULT_RELATIVE_TOLERANCE * offset::size(&b.surface)).max(f64::MIN_POSITIVE));
         let fit = offset::approximate_offset(&b.surface, d, tol).map_err(|e| match e {
             offset::OffsetError::DegenerateNormal { .. } => unsupported(
                 self,

@@ -15,9 +15,13 @@
 //! | 13 | 140: the patch offset by 0.5 |
 //! | 15 | 128 (dependent): a bicubic polynomial bump, 2 × 2 spans |
 //! | 17 | 140: the bump offset by −0.3 |
-//! | 19 | 116 (dependent): centre of the sphere |
-//! | 21 | 196 (dependent): sphere of radius 1.5 about (1, 1, 1) |
-//! | 23 | 140: the sphere offset by 0.75 |
+//! | 19, 21 | 116, 123 (dependent): centre `(1, 1, 1)` and axis `(0, 0.6, 0.8)` of the torus |
+//! | 23 | 198 (dependent): torus of radii 3 and 1 |
+//! | 25 | 140: the torus offset by 0.25 |
+//!
+//! (OCCT does not make a face of a 140 over a whole 196 sphere: `BRepLib_MakeFace` fails on
+//! the offset's poles, so the sphere's exact offset is checked against its closed form
+//! only, in a separate document, [`sphere_doc`].)
 
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_3};
 
@@ -78,11 +82,6 @@ fn bump() -> NurbsSurface {
 /// The sample's text: curves, surfaces or both (the DE numbers of the table above are
 /// those of both; curves only keeps DE 1–9, surfaces only starts at DE 1).
 fn build(curves: bool, surfaces: bool) -> Vec<u8> {
-    build_with(curves, surfaces, 0.75)
-}
-
-/// [`build`] with another distance for the sphere's offset.
-fn build_with(curves: bool, surfaces: bool, sphere_offset: f64) -> Vec<u8> {
     let mut b = DocumentBuilder::new(Units::Millimetre).timestamp("20261122.050000").file_name("conics_offset.igs");
     let dependent = Status { subordinate: 1, ..Status::default() };
     let definition = Status { subordinate: 1, entity_use: 2, ..Status::default() };
@@ -116,14 +115,32 @@ fn build_with(curves: bool, surfaces: bool, sphere_offset: f64) -> Vec<u8> {
         let mut v = vec![Value::Integer(116)];
         v.extend(reals(&[1.0, 1.0, 1.0]));
         let c = b.add_entity(0, dependent, v);
-        let sp = b.add_entity(0, dependent, vec![Value::Integer(196), Value::Integer(i64::from(c.0)), Value::Real(1.5)]);
-        b.add_entity(0, Status::default(), offset(sp, sphere_offset));
+        let mut v = vec![Value::Integer(123)];
+        v.extend(reals(&[0.0, 0.6, 0.8]));
+        let ax = b.add_entity(0, dependent, v);
+        let mut v = vec![Value::Integer(198), Value::Integer(i64::from(c.0)), Value::Integer(i64::from(ax.0))];
+        v.extend(reals(&[3.0, 1.0]));
+        let t = b.add_entity(0, dependent, v);
+        b.add_entity(0, Status::default(), offset(t, 0.25));
     }
     let mut bytes = b.to_bytes();
     if let Some((h, t)) = transformed {
         set_transform(&mut bytes, h, t);
     }
     bytes
+}
+
+/// A 196 sphere of radius 1.5 about `(1, 1, 1)` (DE 3) and a 140 offsetting it by `d` (DE 5).
+fn sphere_doc(d: f64) -> Document {
+    let mut b = DocumentBuilder::new(Units::Millimetre).timestamp("20261122.050000");
+    let dependent = Status { subordinate: 1, ..Status::default() };
+    let c = b.add_entity(0, dependent, vec![Value::Integer(116), Value::Real(1.0), Value::Real(1.0), Value::Real(1.0)]);
+    let sp = b.add_entity(0, dependent, vec![Value::Integer(196), Value::Integer(i64::from(c.0)), Value::Real(1.5)]);
+    let mut v = vec![Value::Integer(140)];
+    v.extend(reals(&[0.0, 0.0, 0.0, d]));
+    v.push(Value::Integer(i64::from(sp.0)));
+    b.add_entity(0, Status::default(), v);
+    Document::parse(&b.to_bytes()).unwrap()
 }
 
 /// Writes `t` into directory field 7 of entity `id` (columns 49–56 of its first D line).
@@ -183,7 +200,8 @@ fn conic_errors(doc: &Document, id: EntityId) -> (f64, f64, f64) {
     }
     let s = inv.transform_point(&curve.eval(*d.start()));
     let e = inv.transform_point(&curve.eval(*d.end()));
-    let ends = (s - Point3::new(c.start[0], c.start[1], c.z)).norm().max((e - Point3::new(c.end[0], c.end[1], c.z)).norm());
+    let ends =
+        (s - Point3::new(c.start[0], c.start[1], c.z)).norm().max((e - Point3::new(c.end[0], c.end[1], c.z)).norm());
     (on, plane, ends / size)
 }
 
@@ -237,19 +255,39 @@ fn sphere_deviation(s: &NurbsSurface, c: Point3<f64>, r: f64) -> f64 {
 
 #[test]
 fn offsets_match_closed_forms() {
-    let doc = sample();
     // 196 sphere offset: exact, a sphere of radius 2.25.
-    let exact = doc.offset_surface(EntityId(23), None).unwrap();
+    let doc = sphere_doc(0.75);
+    let exact = doc.offset_surface(EntityId(5), None).unwrap();
     assert!(exact.exact);
     let e = sphere_deviation(&exact.surface.surface, Point3::new(1.0, 1.0, 1.0), 2.25);
     println!("196 offset (exact): {e:e}");
     assert!(e <= 1e-14);
     // The same offset approximated from the sphere's exact NURBS agrees within tolerance.
-    let base = doc.surface(EntityId(21)).unwrap();
+    let base = doc.surface(EntityId(3)).unwrap();
     let fit = cadmorph_iges::convert::offset::approximate_offset(&base.surface, 0.75, 1e-6).unwrap();
     let e = sphere_deviation(&fit.surface, Point3::new(1.0, 1.0, 1.0), 2.25);
     println!("196 offset approximated from its B-spline (poles included): {e:e} (check grid {:e})", fit.max_error);
     assert!(e <= 2e-6);
+    // 198 torus offset: exact, minor radius 1.25 about the circle of radius 3.
+    let doc = sample();
+    let exact = doc.offset_surface(EntityId(25), None).unwrap();
+    assert!(exact.exact);
+    let (o, z) = (Point3::new(1.0, 1.0, 1.0), Vector3::new(0.0, 0.6, 0.8));
+    let s = &exact.surface.surface;
+    let (ud, vd) = s.domain();
+    let mut e = 0.0f64;
+    for i in 0..=40 {
+        for j in 0..=40 {
+            let u = ud.start() + (ud.end() - ud.start()) * f64::from(i) / 40.0;
+            let v = vd.start() + (vd.end() - vd.start()) * f64::from(j) / 40.0;
+            let q = s.eval(u, v) - o;
+            let h = q.dot(&z);
+            let rho = (q - z * h).norm();
+            e = e.max(((rho - 3.0).hypot(h) - 1.25).abs());
+        }
+    }
+    println!("198 offset (exact): {e:e}");
+    assert!(e <= 1e-14);
     // 128 sphere patch offset: approximated, a sphere of radius 2.5, in the base's parameters.
     let approx = doc.offset_surface(EntityId(13), None).unwrap();
     assert!(!approx.exact);
@@ -285,15 +323,22 @@ fn offset_of_a_polar_bspline_sphere_and_degenerate_bases() {
     let off = b.add_entity(
         0,
         Status::default(),
-        vec![Value::Integer(140), Value::Real(0.0), Value::Real(0.0), Value::Real(1.0), Value::Real(1.0), Value::Integer(1)],
+        vec![
+            Value::Integer(140),
+            Value::Real(0.0),
+            Value::Real(0.0),
+            Value::Real(1.0),
+            Value::Real(1.0),
+            Value::Integer(1),
+        ],
     );
     let doc = Document::parse(&b.to_bytes()).unwrap();
     let err = doc.surface(off).unwrap_err().to_string();
     assert!(err.contains("DE 3") && err.contains("normal"), "{err}");
     // A distance through the centre of a sphere.
-    let doc = Document::parse(&build_with(true, true, -2.0)).unwrap();
-    let err = doc.surface(EntityId(23)).unwrap_err().to_string();
-    assert!(err.contains("DE 23") && err.contains("radius"), "{err}");
+    let doc = sphere_doc(-2.0);
+    let err = doc.surface(EntityId(5)).unwrap_err().to_string();
+    assert!(err.contains("DE 5") && err.contains("radius"), "{err}");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -351,6 +396,24 @@ fn conic_arcs_match_occt() {
         let pts = c.control_points();
         let size = pts.iter().map(|p| (p - pts[0]).norm()).fold(0.0, f64::max);
         let evals = oc["evals"].as_array().unwrap();
+        let View::ConicArc(arc) = doc.view(EntityId(*de)).unwrap() else { panic!() };
+        let inv = doc.transform(EntityId(*de)).unwrap().try_inverse().unwrap();
+        let occt_off: f64 = evals
+            .iter()
+            .map(|ev| {
+                let p = inv.transform_point(&Point3::from(xyz(&ev["p"])));
+                conic_distance(&arc.coefficients, p.x, p.y) / size
+            })
+            .fold(0.0, f64::max);
+        if arc.coefficients[3..] != PARABOLA[3..] && form == 3 {
+            // OCCT's IGESGeom_ConicArc::ComputedDefinition puts the vertex of a parabola
+            // with D, E, F not those of y² = 4fx at the wrong place (signs of its centre
+            // formula): its curve is not on the file's conic, so there is nothing to compare.
+            println!("104 DE {de} ({class}): OCCT's points are {occt_off:.2e} (relative) off the conic; skipped");
+            assert!(occt_off > 1e-3, "OCCT reads the shifted parabola right now: compare it");
+            continue;
+        }
+        assert!(occt_off <= 1e-12, "DE {de}: OCCT's points {occt_off:e} off the conic");
         for ev in evals {
             let p = Point3::from(xyz(&ev["p"]));
             let e = c.project(&p, 1e-13 * size).distance_sq.sqrt() / size;
@@ -397,9 +460,13 @@ fn offsets_match_occt() {
         let size = cadmorph_iges::convert::offset::size(&s.surface);
         // Exact offsets agree to the evaluation tolerance, approximations to their own.
         let tol = if off.exact { 1e-9 * size } else { off.tolerance };
+        let is_torus = matches!(doc.view(face.surface), Ok(View::OffsetSurface(o))
+            if doc.entity(o.surface).unwrap().entity_type() == 198);
         let mut worst = 0.0f64;
         for ev in of["evals"].as_array().unwrap() {
             let (u, v) = (ev["u"].as_f64().unwrap(), ev["v"].as_f64().unwrap());
+            // cadmorph's torus runs v over [−π, π], OCCT's over [0, 2π].
+            let v = if is_torus && v > std::f64::consts::PI { v - std::f64::consts::TAU } else { v };
             let (a, b) = s.nurbs_params(u, v);
             let e = (s.surface.eval(a, b).coords - xyz(&ev["p"])).norm();
             worst = worst.max(e);
