@@ -594,7 +594,7 @@ impl Document {
             View::CylindricalSurface(cy) => {
                 let frame = self.frame(p_or(cy.location), cy.axis, cy.reference, &g)?;
                 let r = cy.radius + d;
-                if !(r > 0.0) {
+                if !(r > 0.0 && r.is_finite()) {
                     return Err(through());
                 }
                 let cyl = Cylinder::try_new(frame, r).map_err(&g)?;
@@ -625,7 +625,7 @@ impl Document {
                     None => Placement::try_new(o, Vector3::z(), Vector3::x()).map_err(&g)?,
                 };
                 let r = sp.radius + d;
-                if !(r > 0.0) {
+                if !(r > 0.0 && r.is_finite()) {
                     return Err(through());
                 }
                 let s = Sphere::try_new(frame, r).map_err(&g)?;
@@ -634,7 +634,7 @@ impl Document {
             View::ToroidalSurface(t) => {
                 let frame = self.frame(p_or(t.center), t.axis, t.reference, &g)?;
                 let r = t.minor_radius + d;
-                if !(r > 0.0) {
+                if !(r > 0.0 && r.is_finite()) {
                     return Err(through());
                 }
                 let s = Torus::try_new(frame, t.major_radius, r).map_err(&g)?;

@@ -125,7 +125,7 @@ pub(crate) fn conic_arc(c: &ConicArc) -> Result<NurbsCurve, ConicError> {
     let p2 = Vector3::new(c.end[0], c.end[1], 1.0);
     let (l0, l2) = (m * p0, m * p2);
     let p1h = l0.cross(&l2);
-    if !(p1h.z.abs() > 1e-14 * p1h.xy().norm()) {
+    if !(p1h.z.abs() > 1e-14 * p1h.xy().norm() && p1h.z.is_finite()) {
         return invalid("conic arc whose end tangents are parallel (start and terminate on different branches)");
     }
     let p1 = p1h / p1h.z;
@@ -147,14 +147,14 @@ pub(crate) fn conic_arc(c: &ConicArc) -> Result<NurbsCurve, ConicError> {
             let axis = if n1.norm() >= n2.norm() { n1 } else { n2 }.normalize();
             let across = Vector3::new(-axis.y, axis.x, 0.0);
             let dt = ((p2 - p0).dot(&across)).abs();
-            if !(dt > 0.0) {
+            if !(dt > 0.0 && dt.is_finite()) {
                 return invalid("parabola arc whose end points are mirror images across the axis");
             }
             let knots = KnotVector::try_new(vec![0.0, 0.0, 0.0, dt, dt, dt])?;
             Ok(NurbsCurve::try_new(2, knots, vec![pt(&p0), pt(&p1), pt(&p2)], None)?)
         }
         Kind::Hyperbola => {
-            if !(w > 1.0) {
+            if !(w > 1.0 && w.is_finite()) {
                 return invalid("hyperbola arc whose end points and tangents do not fit a hyperbola");
             }
             // Homogeneous segments (x w, y w, w), halved until the weights are small.
@@ -166,7 +166,7 @@ pub(crate) fn conic_arc(c: &ConicArc) -> Result<NurbsCurve, ConicError> {
                 if halvings > MAX_HALVINGS {
                     return invalid("hyperbola arc too long to convert");
                 }
-                segs = segs.iter().flat_map(|s| halve(s)).collect();
+                segs = segs.iter().flat_map(halve).collect();
                 wseg = ((1.0 + wseg) / 2.0).sqrt();
             }
             let n = segs.len();

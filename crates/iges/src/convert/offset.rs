@@ -298,7 +298,7 @@ pub fn approximate_offset(base: &NurbsSurface, distance: f64, tolerance: f64) ->
         let mut check = |u: f64, v: f64| -> Result<bool, OffsetError> {
             let e = (fit.eval(u, v) - offset_point(base, u, v, distance)?).norm();
             worst = if e.is_nan() { f64::INFINITY } else { worst.max(e) };
-            Ok(!(e <= tolerance))
+            Ok(e.is_nan() || e > tolerance)
         };
         // Between the interpolation points along u (at the v ones): u's share of the error;
         // the same along v; then the cross grid.
