@@ -478,15 +478,21 @@ impl Document {
     /// the face that uses it as for [`surface`](Self::surface)), with how close it is.
     ///
     /// Offsets of planes (108, 190), cylinders (192), cones (194, when the face does not
-    /// reach the apex), spheres (196) and tori (198) under a rigid 124 are exact: the same
-    /// kind of surface with its radius or origin moved (`max_error` 0). Any other base is
+    /// reach the apex), spheres (196), tori (198) and 120 revolutions of a line or circular
+    /// arc lying in a plane through the axis on one side of it, under a rigid 124, are
+    /// exact: the same kind of surface with its radius or origin moved, in the same
+    /// parameterisation (`max_error` 0). Any other base is
     /// approximated by [`offset::approximate_offset`] within `tolerance` (default
     /// [`offset::DEFAULT_RELATIVE_TOLERANCE`] × the base's size), in the base's
     /// parameterisation: `(u, v)` maps to the NURBS as for the base surface, like OCCT's
-    /// `Geom_OffsetSurface`. The offset is `S + D·N` with `N = S_u × S_v / |S_u × S_v|` of
-    /// the base as converted here, which is OCCT's normal (but see the module notes on a
-    /// 120 under a reflecting matrix); like OCCT, the offset indicator `(NX, NY, NZ)` does
-    /// not change the side (IGES 5.3 §4.20 defines the offset through `D` and `N`).
+    /// `Geom_OffsetSurface`. The offset is `S + D·N` (IGES 5.3 §4.20) with `N` the unit
+    /// normal `S_u × S_v / |S_u × S_v|` of the base in its IGES parameterisation: the
+    /// normal of the converted NURBS, except for a 120, which IGES parameterises as
+    /// (generatrix, angle), the other way round from OCCT's and cadmorph's (angle,
+    /// generatrix), so the side is the opposite of the NURBS normal there. OCCT agrees on
+    /// every base tried (it reverses the axis of the 120); it does not for a 120 under a
+    /// reflecting 124 (see the module notes). Like OCCT, the offset indicator
+    /// `(NX, NY, NZ)` is not used to choose the side.
     ///
     /// # Errors
     ///
@@ -523,11 +529,14 @@ impl Document {
         depth: usize,
         tolerance: Option<f64>,
     ) -> Result<(ExactSurface, Option<FitNumbers>)> {
-        let d = o.distance;
+        let base = o.surface;
+        // IGES parameterises a 120 as (generatrix t, angle θ) (§4.18), cadmorph and OCCT as
+        // (θ, t): the IGES normal S_t × S_θ is the opposite of S_u × S_v here. (OCCT's reader
+        // gets the IGES side by building the revolution about the reversed axis.)
+        let d = if self.entity(base)?.entity_type() == 120 { -o.distance } else { o.distance };
         if !d.is_finite() {
             return Err(unsupported(self, id, "offset surface with a non-finite distance"));
         }
-        let base = o.surface;
         let mb = self.transform(base)?;
         let lin: Matrix3<f64> = mb.fixed_view::<3, 3>(0, 0).into_owned();
         let rigid = (lin.transpose() * lin - Matrix3::identity()).abs().max() <= 1e-12;
@@ -640,8 +649,111 @@ impl Document {
                 let s = Torus::try_new(frame, t.major_radius, r).map_err(&g)?;
                 s.to_nurbs(0.0..=TAU, -PI..=PI).map_err(&g)?
             }
+            View::SurfaceOfRevolution(r) => {
+                let Some(gen) = self.revolution_offset_generatrix(id, &r, d)? else {
+                    return Ok(None);
+                };
+                let axis = self.curve(r.axis)?;
+                let (Some(a0), Some(a1)) =
+                    (axis.first().map(|c| c.control_points()[0]), axis.last().and_then(|c| c.control_points().last()))
+                else {
+                    return Ok(None);
+                };
+                let dom = gen.domain();
+                let rev = Revolution::try_new(gen, a0, a1 - a0).map_err(&g)?;
+                rev.to_nurbs(r.start_angle..=r.end_angle, dom).map_err(&g)?
+            }
             _ => return Ok(None),
         }))
+    }
+
+    /// For a 120 whose generatrix is a line (110) or circular arc (100) in a plane through
+    /// the axis, on one side of it: the generatrix of the offset surface (the line moved by
+    /// `d` along its normal in that plane, the arc with its radius changed by `±d`), in the
+    /// same parameterisation. `None` for other generatrices.
+    fn revolution_offset_generatrix(
+        &self,
+        id: EntityId,
+        r: &crate::entity::SurfaceOfRevolution,
+        d: f64,
+    ) -> Result<Option<NurbsCurve>> {
+        let arc_center = match self.view(r.generatrix)? {
+            View::Line(_) => None,
+            View::CircularArc(a) => {
+                let m = self.transform(r.generatrix)?;
+                Some(m.transform_point(&Point3::new(a.center[0], a.center[1], a.z)))
+            }
+            _ => return Ok(None),
+        };
+        let axis = self.curve(r.axis)?;
+        let (Some(a0), Some(a1)) =
+            (axis.first().map(|c| c.control_points()[0]), axis.last().and_then(|c| c.control_points().last()))
+        else {
+            return Ok(None);
+        };
+        let k = a1 - a0;
+        if !(k.norm() > 0.0 && k.norm().is_finite()) {
+            return Ok(None);
+        }
+        let k = k.normalize();
+        let mut gen = self.curve_joined(r.generatrix)?;
+        let dom = gen.domain();
+        let (t0, t1) = (*dom.start(), *dom.end());
+        let samples: Vec<Point3<f64>> = (0..=32).map(|i| gen.eval(t0 + (t1 - t0) * f64::from(i) / 32.0)).collect();
+        let radial = |p: &Point3<f64>| {
+            let q = p - a0;
+            q - k * q.dot(&k)
+        };
+        // The meridian plane: through the axis and the sample farthest from it.
+        let far = samples.iter().map(radial).fold(Vector3::zeros(), |a, b| if b.norm() > a.norm() { b } else { a });
+        let size = samples.iter().map(|p| (p - a0).norm()).fold(0.0, f64::max);
+        if !(far.norm() > 1e-9 * size) {
+            return Ok(None);
+        }
+        let rhat = far.normalize();
+        let m = k.cross(&rhat);
+        let planar = gen.control_points().iter().all(|p| (p - a0).dot(&m).abs() <= 1e-12 * size);
+        let one_side = samples.iter().all(|p| radial(p).dot(&rhat) > 1e-9 * size);
+        if !(planar && one_side) {
+            return Ok(None);
+        }
+        // The surface normal at angle 0: (k × (C − a0)) × C'.
+        let tm = (t0 + t1) / 2.0;
+        let dv = gen.derivs(tm, 1);
+        let c = Point3::from(dv[0]);
+        let n = k.cross(&(c - a0)).cross(&dv[1]);
+        if !(n.norm() > 0.0 && n.norm().is_finite()) {
+            return Ok(None);
+        }
+        let n = n.normalize();
+        match arc_center {
+            None => {
+                for p in gen.control_points_mut() {
+                    *p += n * d;
+                }
+            }
+            Some(center) => {
+                let radius = (c - center).norm();
+                if samples.iter().any(|p| ((p - center).norm() - radius).abs() > 1e-12 * size) {
+                    return Ok(None);
+                }
+                // Outward (away from the centre) or inward normal.
+                let s = if n.dot(&(c - center)) >= 0.0 { 1.0 } else { -1.0 };
+                let new = radius + s * d;
+                if !(new > 0.0 && new.is_finite()) {
+                    return Err(unsupported(
+                        self,
+                        id,
+                        "offset surface: the distance takes the radius to zero or below",
+                    ));
+                }
+                let f = new / radius;
+                for p in gen.control_points_mut() {
+                    *p = center + (*p - center) * f;
+                }
+            }
+        }
+        Ok(Some(gen))
     }
 
     /// A child surface mapped into the parent's definition space.
