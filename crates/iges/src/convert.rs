@@ -707,7 +707,7 @@ impl Document {
         // The meridian plane: through the axis and the sample farthest from it.
         let far = samples.iter().map(radial).fold(Vector3::zeros(), |a, b| if b.norm() > a.norm() { b } else { a });
         let size = samples.iter().map(|p| (p - a0).norm()).fold(0.0, f64::max);
-        if !(far.norm() > 1e-9 * size) {
+        if !(far.norm() > 1e-9 * size && size.is_finite()) {
             return Ok(None);
         }
         let rhat = far.normalize();
