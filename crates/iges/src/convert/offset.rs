@@ -11,9 +11,11 @@
 //! 2. Interpolation of the true offset points at the Greville abscissae of those knots
 //!    (tensor-product global interpolation, Piegl & Tiller §9.2.5; the Schoenberg–Whitney
 //!    condition holds at Greville points).
-//! 3. Check against the true offset on a denser grid: the middle and quarter points of
-//!    every knot span in both directions. Spans whose samples miss by more than the
-//!    tolerance are halved, and 2–3 repeat (at most 12 rounds and 250 000 poles).
+//! 3. Check against the true offset on a denser grid: the quarter and middle points of
+//!    every knot span in u at every interpolation v, the same in v, and the centre of every
+//!    knot rectangle. Spans whose samples miss by more than the tolerance are halved (a
+//!    direction's own samples decide which of its spans; the centres only when those all
+//!    pass), and 2–3 repeat (at most 12 rounds and 250 000 poles).
 //!
 //! The returned [`OffsetFit::max_error`] is the largest deviation seen on the last check
 //! grid. The tolerance is absolute; [`DEFAULT_RELATIVE_TOLERANCE`] times the base's size
@@ -317,9 +319,9 @@ pub fn approximate_offset(base: &NurbsSurface, distance: f64, tolerance: f64) ->
             }
         }
         let mut cross = Vec::new();
-        for &(ki, u) in &su {
-            for &(kj, v) in &sv {
-                if check(u, v)? {
+        for (ki, w) in bu.0.windows(2).enumerate() {
+            for (kj, x) in bv.0.windows(2).enumerate() {
+                if check((w[0].0 + w[1].0) / 2.0, (x[0].0 + x[1].0) / 2.0)? {
                     cross.push((ki, kj));
                 }
             }
