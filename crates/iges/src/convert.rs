@@ -1,8 +1,13 @@
 //! Conversion of curves, surfaces and faces to cadmorph-nurbs types in model units.
 //!
-//! Every conversion is exact (no approximation): analytic curves and surfaces become
-//! rational NURBS through `cadmorph_nurbs::analytic`, polynomial splines (112, 114)
-//! become B-splines by a change of basis. Parameterisations follow OpenCASCADE's reading
+//! Every conversion but one is exact: analytic curves and surfaces become rational NURBS
+//! through `cadmorph_nurbs::analytic`, 104 hyperbola and parabola arcs rational quadratic
+//! B-splines (see `conic`: the pole from the end tangents, the weight from the implicit
+//! equation), polynomial splines (112, 114) B-splines by a change of basis. The exception
+//! is the 140 offset surface of a free-form base, which has no NURBS form: it is
+//! approximated by a bicubic B-spline within a stated tolerance ([`offset`],
+//! [`Document::offset_surface`]); offsets of planes, cylinders, cones, spheres, tori and
+//! revolutions of lines and arcs are exact. Parameterisations follow OpenCASCADE's reading
 //! of the same entity, so that OCCT's `(u, v)` map to cadmorph's through the
 //! [`ParamMap`]s of the returned [`ExactSurface`]:
 //!
@@ -14,10 +19,16 @@
 //! | 192 / 194 / 196 / 198 | angle (arc map) | axial length / cone length / latitude / angle |
 //! | 110 line | length from the start point | |
 //! | 100 arc | angle | |
+//! | 140 offset | as its base surface | as its base surface |
+//! | 104 hyperbola | hyperbolic angle from the start point | |
+//! | 104 parabola | distance across the axis from the start point | |
 //!
 //! One OCCT quirk: when a 120 carries a reflecting 124 matrix (determinant −1), OCCT
 //! transforms the axis *direction* and so runs the angle the other way: OCCT's `u` is
-//! cadmorph's `−u` (mod 2π). The geometry is the same.
+//! cadmorph's `−u` (mod 2π). The geometry is the same. (Untested: the side of a 140 over
+//! such a 120 may then differ from OCCT's.) OCCT makes the face of a 140 over the offset's
+//! natural bounds (a 120's full turn, not its angles), and no face at all over a whole 196
+//! sphere; it misplaces the vertex of a 104 parabola not of the form `y² = 4fx`.
 //!
 //! Unbounded surfaces (108, 190–194) are cut to the box of the boundary curves of the face
 //! that uses them (144 / 143 / 510), with a 1 % margin, or fail with
@@ -196,8 +207,10 @@ impl Document {
     ///
     /// # Errors
     ///
-    /// [`Error::Unsupported`] for entities that are not curves (and 104 hyperbolas and
-    /// parabolas), [`Error::Geometry`] for invalid data.
+    /// [`Error::Unsupported`] for entities that are not curves, 104 ellipses not in
+    /// standard position, and 104 arcs whose numbers do not make the conic of their form
+    /// (end points off the conic or on two branches, wrong form for `B² − 4AC`);
+    /// [`Error::Geometry`] for invalid data.
     pub fn curve(&self, id: EntityId) -> Result<Vec<NurbsCurve>> {
         let mut budget = MAX_CURVE_VISITS;
         self.curve_at(id, 0, &mut budget)
@@ -338,9 +351,9 @@ impl Document {
     ///
     /// # Errors
     ///
-    /// [`Error::Unsupported`] for entities that are not surfaces, offset surfaces (no exact
-    /// NURBS form) and unbounded surfaces no face bounds; [`Error::Geometry`] for invalid
-    /// data.
+    /// [`Error::Unsupported`] for entities that are not surfaces, unbounded surfaces no face
+    /// bounds, and offset surfaces [`offset_surface`](Self::offset_surface) refuses;
+    /// [`Error::Geometry`] for invalid data.
     pub fn surface(&self, id: EntityId) -> Result<ExactSurface> {
         let face = self.faces().into_iter().find(|f| f.surface == id && f.face != id);
         let hint = match face {

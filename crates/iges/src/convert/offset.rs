@@ -15,7 +15,8 @@
 //!    every knot span in u at every interpolation v, the same in v, and the centre of every
 //!    knot rectangle. Spans whose samples miss by more than the tolerance are halved (a
 //!    direction's own samples decide which of its spans; the centres only when those all
-//!    pass), and 2–3 repeat (at most 12 rounds and 250 000 poles).
+//!    pass), and 2–3 repeat (at most 12 rounds, 1 000 poles in a direction and 250 000 in
+//!    all).
 //!
 //! The returned [`OffsetFit::max_error`] is the largest deviation seen on the last check
 //! grid. The tolerance is absolute; [`DEFAULT_RELATIVE_TOLERANCE`] times the base's size
@@ -38,6 +39,8 @@ pub const DEFAULT_RELATIVE_TOLERANCE: f64 = 1e-6;
 const MAX_ROUNDS: usize = 12;
 /// Most poles of the approximation.
 const MAX_POLES: usize = 250_000;
+/// Most poles in one direction (the interpolation solves dense systems of this size).
+const MAX_POLES_PER_DIRECTION: usize = 1_000;
 /// `|S_u × S_v|` below this fraction of `max(|S_u|, |S_v|)²` is a degenerate normal.
 const DEGENERATE: f64 = 1e-10;
 /// Sample fractions of each knot span on the check grid.
@@ -221,8 +224,8 @@ fn collocation(k: &KnotVector, t: &[f64]) -> DMatrix<f64> {
 /// # Errors
 ///
 /// [`OffsetError::DegenerateNormal`] where the base has no normal,
-/// [`OffsetError::NotConverged`] when 12 refinements or 250 000 poles do not reach the
-/// tolerance (a distance beyond the radius of curvature folds the offset),
+/// [`OffsetError::NotConverged`] when 12 refinements, 1 000 poles in a direction or
+/// 250 000 in all do not reach the tolerance (a distance beyond the radius of curvature folds the offset),
 /// [`OffsetError::BadInput`] for a non-finite distance or a tolerance that is not a
 /// positive number.
 ///
@@ -251,7 +254,7 @@ pub fn approximate_offset(base: &NurbsSurface, distance: f64, tolerance: f64) ->
         let (ku, kv) = (bu.knots(), bv.knots());
         let (tu, tv) = (greville(&ku), greville(&kv));
         let (nu, nv) = (tu.len(), tv.len());
-        if nu.saturating_mul(nv) > MAX_POLES {
+        if nu.saturating_mul(nv) > MAX_POLES || nu.max(nv) > MAX_POLES_PER_DIRECTION {
             break;
         }
         let (ku, kv) = (KnotVector::try_new(ku)?, KnotVector::try_new(kv)?);
