@@ -52,6 +52,8 @@ pub mod offset;
 
 /// Deepest chain of 124 matrices or of nested curves followed.
 const MAX_DEPTH: usize = 64;
+/// Longest chain of surface pointers (140, 143, 144, 510 to their surfaces) converted.
+const MAX_SURFACE_CHAIN: usize = 8;
 /// Most curve entities visited to convert one curve (composite curves may repeat pieces).
 const MAX_CURVE_VISITS: usize = 100_000;
 /// Margin added around boundary boxes of unbounded surfaces (fraction of the extent).
@@ -355,6 +357,7 @@ impl Document {
     /// bounds, and offset surfaces [`offset_surface`](Self::offset_surface) refuses;
     /// [`Error::Geometry`] for invalid data.
     pub fn surface(&self, id: EntityId) -> Result<ExactSurface> {
+        self.surface_chain(id)?;
         let face = self.faces().into_iter().find(|f| f.surface == id && f.face != id);
         let hint = match face {
             Some(f) => self.boundary_points(f.face)?,
@@ -368,6 +371,28 @@ impl Document {
             s.surface.transform_by(&m);
         }
         Ok(s)
+    }
+
+    /// Refuses chains of surface pointers (140, 143, 144, 510 to their surfaces) that loop
+    /// or are longer than [`MAX_SURFACE_CHAIN`], walking them without recursion: converting
+    /// them recurses once per link, and a long chain would exhaust the stack before
+    /// [`MAX_DEPTH`] stops it.
+    fn surface_chain(&self, id: EntityId) -> Result<()> {
+        let mut cur = id;
+        for _ in 0..=MAX_SURFACE_CHAIN {
+            let next = match self.view(cur) {
+                Ok(View::OffsetSurface(x)) => x.surface,
+                Ok(View::TrimmedSurface(x)) => x.surface,
+                Ok(View::BoundedSurface(x)) => x.surface,
+                Ok(View::Face(x)) => x.surface,
+                _ => return Ok(()),
+            };
+            if next == id {
+                break;
+            }
+            cur = next;
+        }
+        Err(unsupported(self, id, "chain of surface entities (140, 143, 144, 510) loops or is longer than 8"))
     }
 
     /// The surface in its definition space (own transformation not applied).
@@ -543,6 +568,7 @@ impl Document {
         tolerance: Option<f64>,
     ) -> Result<(ExactSurface, Option<FitNumbers>)> {
         let base = o.surface;
+        self.surface_chain(id)?;
         // IGES parameterises a 120 as (generatrix t, angle θ) (§4.18), cadmorph and OCCT as
         // (θ, t): the IGES normal S_t × S_θ is the opposite of S_u × S_v here. (OCCT's reader
         // gets the IGES side by building the revolution about the reversed axis.)
@@ -900,6 +926,8 @@ impl Document {
     ///
     /// As [`surface`](Self::surface).
     pub fn face_surface(&self, face: &FaceRef) -> Result<ExactSurface> {
+        self.surface_chain(face.face)?;
+        self.surface_chain(face.surface)?;
         if face.face == face.surface {
             return self.surface(face.surface);
         }

@@ -638,3 +638,74 @@ fn revolution_offsets_match_occt() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn surface_cycles_end_with_errors() {
+    // A 144 whose surface is itself (this overflowed the stack before the chain check).
+    let mut b = DocumentBuilder::new(Units::Millimetre).timestamp("20261122.050000");
+    let z = Value::Integer(0);
+    let a = b.add_entity(0, Status::default(), vec![Value::Integer(144), Value::Integer(1), z.clone(), z.clone(), z]);
+    let doc = Document::parse(&b.to_bytes()).unwrap();
+    let err = doc.surface(a).unwrap_err().to_string();
+    assert!(err.contains("loops or is longer"), "{err}");
+    assert!(doc.surfaces().iter().all(|i| i.nurbs.is_err()));
+    // Chains of 144s over a 128: 8 links convert (within the stack of a test thread in a
+    // debug build), 9 do not.
+    for (links, ok) in [(8, true), (9, false)] {
+        let mut b = DocumentBuilder::new(Units::Millimetre).timestamp("20261122.050000");
+        let mut cur = b.add_surface(&bump());
+        b.set_status(cur, Status { subordinate: 1, ..Status::default() });
+        for k in 0..links {
+            let z = Value::Integer(0);
+            let status =
+                if k + 1 == links { Status::default() } else { Status { subordinate: 1, ..Status::default() } };
+            cur = b.add_entity(
+                0,
+                status,
+                vec![Value::Integer(144), Value::Integer(i64::from(cur.0)), z.clone(), z.clone(), z],
+            );
+        }
+        let doc = Document::parse(&b.to_bytes()).unwrap();
+        assert_eq!(doc.surface(cur).is_ok(), ok, "{links} links");
+    }
+}
+
+#[test]
+fn offset_cycles_and_chains_end_with_errors() {
+    // A 140 whose base is itself, and two 140s pointing at each other.
+    let mut b = DocumentBuilder::new(Units::Millimetre).timestamp("20261122.050000");
+    let v = |base: i64| {
+        vec![
+            Value::Integer(140),
+            Value::Real(0.0),
+            Value::Real(0.0),
+            Value::Real(1.0),
+            Value::Real(1.0),
+            Value::Integer(base),
+        ]
+    };
+    let a = b.add_entity(0, Status::default(), v(1));
+    let c = b.add_entity(0, Status::default(), v(5));
+    let d = b.add_entity(0, Status::default(), v(3));
+    let doc = Document::parse(&b.to_bytes()).unwrap();
+    for id in [a, c, d] {
+        let err = doc.surface(id).unwrap_err().to_string();
+        assert!(err.contains("loops or is longer"), "{err}");
+    }
+    // A 140 of a 140 of a sphere: the outer one is approximated, on the sphere of radius 2.5.
+    let mut b = DocumentBuilder::new(Units::Millimetre).timestamp("20261122.050000");
+    let dependent = Status { subordinate: 1, ..Status::default() };
+    let c = b.add_entity(0, dependent, vec![Value::Integer(116), Value::Real(0.0), Value::Real(0.0), Value::Real(0.0)]);
+    let sp = b.add_entity(0, dependent, vec![Value::Integer(196), Value::Integer(i64::from(c.0)), Value::Real(1.5)]);
+    let mut w = v(i64::from(sp.0));
+    w[4] = Value::Real(0.5);
+    let inner = b.add_entity(0, dependent, w);
+    let mut w = v(i64::from(inner.0));
+    w[4] = Value::Real(0.5);
+    let outer = b.add_entity(0, Status::default(), w);
+    let doc = Document::parse(&b.to_bytes()).unwrap();
+    let s = doc.offset_surface(outer, None).unwrap();
+    assert!(!s.exact);
+    let e = sphere_deviation(&s.surface.surface, Point3::origin(), 2.5);
+    assert!(e <= s.tolerance, "{e:e} > {:e}", s.tolerance);
+}

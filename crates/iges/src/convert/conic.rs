@@ -296,5 +296,15 @@ mod tests {
         assert!(conic_arc(&arc(2, [1.0, 0.0, -1.0, 0.0, 0.0, 0.0], [1.0, 1.0], [2.0, 2.0])).is_err());
         assert!(conic_arc(&arc(2, [f64::NAN, 0.0, -1.0, 0.0, 0.0, 0.0], [1.0, 1.0], [2.0, 2.0])).is_err());
         assert!(conic_arc(&arc(3, [0.0; 6], [1.0, 1.0], [2.0, 2.0])).is_err());
+        // Extreme numbers: an error or a finite curve, never a panic.
+        for k in [[1e300, 0.0, -1e300, 0.0, 0.0, -1e300], [1e-300, 0.0, -1e-300, 0.0, 0.0, -1e-300]] {
+            for (s, e) in
+                [([1e300, 0.0], [-1e300, 1e300]), ([1.0, 0.0], [2.0, 3f64.sqrt()]), ([f64::MAX, 0.0], [1.0, 0.0])]
+            {
+                if let Ok(c) = conic_arc(&arc(2, k, s, e)) {
+                    assert!(c.control_points().iter().all(|p| p.coords.iter().all(|x| x.is_finite())));
+                }
+            }
+        }
     }
 }
