@@ -709,3 +709,58 @@ fn offset_cycles_and_chains_end_with_errors() {
     let e = sphere_deviation(&s.surface.surface, Point3::origin(), 2.5);
     assert!(e <= s.tolerance, "{e:e} > {:e}", s.tolerance);
 }
+
+/// A 144 face on a 140 over an unbounded 192 cylinder or 194 cone (axis z through the
+/// origin, radius 2, cone semi-angle 20°), bounded by a 142 whose model curve runs from
+/// z = −1 to z = 3; `d` the offset distance. Returns the document and the 140's DE.
+fn bounded_offset(kind: u32, d: f64) -> (Document, EntityId) {
+    let mut b = DocumentBuilder::new(Units::Millimetre).timestamp("20261122.050000");
+    let dep = Status { subordinate: 1, ..Status::default() };
+    let ptr = |id: EntityId| Value::Integer(i64::from(id.0));
+    let o = b.add_entity(0, dep, vec![Value::Integer(116), Value::Real(0.0), Value::Real(0.0), Value::Real(0.0)]);
+    let ax = b.add_entity(0, dep, vec![Value::Integer(123), Value::Real(0.0), Value::Real(0.0), Value::Real(1.0)]);
+    let mut v = vec![Value::Integer(i64::from(kind)), ptr(o), ptr(ax), Value::Real(2.0)];
+    if kind == 194 {
+        v.push(Value::Real(20.0));
+    }
+    let base = b.add_entity(0, dep, v);
+    let mut v = vec![Value::Integer(140)];
+    v.extend(reals(&[0.0, 0.0, 0.0, d]));
+    v.push(ptr(base));
+    let off = b.add_entity(0, dep, v);
+    let mut v = vec![Value::Integer(110)];
+    v.extend(reals(&[2.5, 0.0, -1.0, 2.5, 0.0, 3.0]));
+    let line = b.add_entity(0, dep, v);
+    let z = Value::Integer(0);
+    let cos =
+        b.add_entity(0, dep, vec![Value::Integer(142), z.clone(), ptr(off), z.clone(), ptr(line), Value::Integer(2)]);
+    b.add_entity(0, Status::default(), vec![Value::Integer(144), ptr(off), Value::Integer(1), z, ptr(cos)]);
+    (Document::parse(&b.to_bytes()).unwrap(), off)
+}
+
+#[test]
+fn cylinder_and_cone_offsets_are_exact() {
+    for d in [0.5, -0.75] {
+        let (doc, off) = bounded_offset(192, d);
+        let face = doc.faces().into_iter().find(|f| f.surface == off).unwrap();
+        let s = doc.face_surface(&face).unwrap().surface;
+        let e = grid_max(&s, |p| p.x.hypot(p.y) - (2.0 + d));
+        let (_, vd) = cadmorph_nurbs::Surface::domain(&s);
+        println!("192 offset by {d} (exact): {e:e}, axial range {vd:?}");
+        assert!(e <= 1e-14 && *vd.start() < -1.0 && *vd.end() > 3.0);
+        assert!(doc.offset_surface(off, None).unwrap().exact);
+        let (doc, off) = bounded_offset(194, d);
+        let face = doc.faces().into_iter().find(|f| f.surface == off).unwrap();
+        let s = doc.face_surface(&face).unwrap().surface;
+        let a = 20f64.to_radians();
+        // Signed distance from the base cone ρ = 2 + z tan a, in the meridian plane.
+        let e = grid_max(&s, |p| (p.x.hypot(p.y) - 2.0 - p.z * a.tan()) * a.cos() - d);
+        println!("194 offset by {d} (exact): {e:e}");
+        assert!(e <= 1e-14);
+        assert!(doc.offset_surface(off, None).unwrap().exact);
+    }
+    // Through the axis: an error naming the 140.
+    let (doc, off) = bounded_offset(192, -2.0);
+    let err = doc.offset_surface(off, None).unwrap_err().to_string();
+    assert!(err.contains(&format!("DE {}", off.0)) && err.contains("radius"), "{err}");
+}
