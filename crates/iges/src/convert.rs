@@ -1,8 +1,13 @@
 //! Conversion of curves, surfaces and faces to cadmorph-nurbs types in model units.
 //!
-//! Every conversion is exact (no approximation): analytic curves and surfaces become
-//! rational NURBS through `cadmorph_nurbs::analytic`, polynomial splines (112, 114)
-//! become B-splines by a change of basis. Parameterisations follow OpenCASCADE's reading
+//! Every conversion but one is exact: analytic curves and surfaces become rational NURBS
+//! through `cadmorph_nurbs::analytic`, 104 hyperbola and parabola arcs rational quadratic
+//! B-splines (see `conic`: the pole from the end tangents, the weight from the implicit
+//! equation), polynomial splines (112, 114) B-splines by a change of basis. The exception
+//! is the 140 offset surface of a free-form base, which has no NURBS form: it is
+//! approximated by a bicubic B-spline within a stated tolerance ([`offset`],
+//! [`Document::offset_surface`]); offsets of planes, cylinders, cones, spheres, tori and
+//! revolutions of lines and arcs are exact. Parameterisations follow OpenCASCADE's reading
 //! of the same entity, so that OCCT's `(u, v)` map to cadmorph's through the
 //! [`ParamMap`]s of the returned [`ExactSurface`]:
 //!
@@ -14,10 +19,16 @@
 //! | 192 / 194 / 196 / 198 | angle (arc map) | axial length / cone length / latitude / angle |
 //! | 110 line | length from the start point | |
 //! | 100 arc | angle | |
+//! | 140 offset | as its base surface | as its base surface |
+//! | 104 hyperbola | hyperbolic angle from the start point | |
+//! | 104 parabola | distance across the axis from the start point | |
 //!
 //! One OCCT quirk: when a 120 carries a reflecting 124 matrix (determinant −1), OCCT
 //! transforms the axis *direction* and so runs the angle the other way: OCCT's `u` is
-//! cadmorph's `−u` (mod 2π). The geometry is the same.
+//! cadmorph's `−u` (mod 2π). The geometry is the same. (Untested: the side of a 140 over
+//! such a 120 may then differ from OCCT's.) OCCT makes the face of a 140 over the offset's
+//! natural bounds (a 120's full turn, not its angles), and no face at all over a whole 196
+//! sphere; it misplaces the vertex of a 104 parabola not of the form `y² = 4fx`.
 //!
 //! Unbounded surfaces (108, 190–194) are cut to the box of the boundary curves of the face
 //! that uses them (144 / 143 / 510), with a 1 % margin, or fail with
@@ -29,15 +40,20 @@ use cadmorph_nurbs::analytic::{
     AnalyticCurve, AnalyticSurface, Circle, Cone, Cylinder, ExactSurface, Extrusion, ParamMap, Placement, Revolution,
     Sphere, Torus,
 };
-use cadmorph_nurbs::{Curve, KnotVector, NurbsCurve, NurbsSurface};
-use nalgebra::{Matrix4, Point3, Vector3};
+use cadmorph_nurbs::{Curve, KnotVector, NurbsCurve, NurbsSurface, Surface};
+use nalgebra::{Matrix3, Matrix4, Point3, Vector3};
 
 use crate::document::{Document, EntityId};
 use crate::entity::View;
 use crate::error::{Error, Result};
 
+mod conic;
+pub mod offset;
+
 /// Deepest chain of 124 matrices or of nested curves followed.
 const MAX_DEPTH: usize = 64;
+/// Longest chain of surface pointers (140, 143, 144, 510 to their surfaces) converted.
+const MAX_SURFACE_CHAIN: usize = 8;
 /// Most curve entities visited to convert one curve (composite curves may repeat pieces).
 const MAX_CURVE_VISITS: usize = 100_000;
 /// Margin added around boundary boxes of unbounded surfaces (fraction of the extent).
@@ -70,6 +86,25 @@ pub struct SurfaceInfo {
     pub trimmed: bool,
     /// The exact NURBS form's degrees, pole counts and rationality, or why there is none.
     pub nurbs: std::result::Result<NurbsInfo, Error>,
+}
+
+/// What [`Document::offset_surface`] returns.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OffsetSurfaceNurbs {
+    /// The offset surface with the base's parameter maps.
+    pub surface: ExactSurface,
+    /// Whether it is exact (analytic base) rather than approximated.
+    pub exact: bool,
+    /// Largest deviation from the true offset on the check grid (0 when exact).
+    pub max_error: f64,
+    /// The tolerance of the approximation (0 when exact).
+    pub tolerance: f64,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct FitNumbers {
+    max_error: f64,
+    tolerance: f64,
 }
 
 /// Degrees, pole counts and rationality of a NURBS surface.
@@ -174,8 +209,10 @@ impl Document {
     ///
     /// # Errors
     ///
-    /// [`Error::Unsupported`] for entities that are not curves (and 104 hyperbolas and
-    /// parabolas), [`Error::Geometry`] for invalid data.
+    /// [`Error::Unsupported`] for entities that are not curves, 104 ellipses not in
+    /// standard position, and 104 arcs whose numbers do not make the conic of their form
+    /// (end points off the conic or on two branches, wrong form for `B² − 4AC`);
+    /// [`Error::Geometry`] for invalid data.
     pub fn curve(&self, id: EntityId) -> Result<Vec<NurbsCurve>> {
         let mut budget = MAX_CURVE_VISITS;
         self.curve_at(id, 0, &mut budget)
@@ -232,9 +269,14 @@ impl Document {
                 let circle = Circle::try_new(frame, r).map_err(&g)?;
                 vec![circle.to_nurbs(t0..=t1).map_err(&g)?.curve]
             }
+            // Hyperbolas and parabolas (and form 0, classified by its coefficients).
+            View::ConicArc(c) if c.form != 1 => vec![conic::conic_arc(&c).map_err(|why| match why {
+                conic::ConicError::Invalid(reason) => unsupported(self, id, reason),
+                conic::ConicError::Geometry(source) => g(source),
+            })?],
             View::ConicArc(c) => {
                 let [a, b, cc, d, e, f] = c.coefficients;
-                if c.form != 1 || b != 0.0 || d != 0.0 || e != 0.0 || a == 0.0 || cc == 0.0 {
+                if b != 0.0 || d != 0.0 || e != 0.0 || a == 0.0 || cc == 0.0 {
                     return Err(unsupported(self, id, "only ellipses in standard position (form 1) are converted"));
                 }
                 let (ra, rb) = ((-f / a).sqrt(), (-f / cc).sqrt());
@@ -311,10 +353,11 @@ impl Document {
     ///
     /// # Errors
     ///
-    /// [`Error::Unsupported`] for entities that are not surfaces, offset surfaces (no exact
-    /// NURBS form) and unbounded surfaces no face bounds; [`Error::Geometry`] for invalid
-    /// data.
+    /// [`Error::Unsupported`] for entities that are not surfaces, unbounded surfaces no face
+    /// bounds, and offset surfaces [`offset_surface`](Self::offset_surface) refuses;
+    /// [`Error::Geometry`] for invalid data.
     pub fn surface(&self, id: EntityId) -> Result<ExactSurface> {
+        self.surface_chain(id)?;
         let face = self.faces().into_iter().find(|f| f.surface == id && f.face != id);
         let hint = match face {
             Some(f) => self.boundary_points(f.face)?,
@@ -328,6 +371,28 @@ impl Document {
             s.surface.transform_by(&m);
         }
         Ok(s)
+    }
+
+    /// Refuses chains of surface pointers (140, 143, 144, 510 to their surfaces) that loop
+    /// or are longer than [`MAX_SURFACE_CHAIN`], walking them without recursion: converting
+    /// them recurses once per link, and a long chain would exhaust the stack before
+    /// [`MAX_DEPTH`] stops it.
+    fn surface_chain(&self, id: EntityId) -> Result<()> {
+        let mut cur = id;
+        for _ in 0..=MAX_SURFACE_CHAIN {
+            let next = match self.view(cur) {
+                Ok(View::OffsetSurface(x)) => x.surface,
+                Ok(View::TrimmedSurface(x)) => x.surface,
+                Ok(View::BoundedSurface(x)) => x.surface,
+                Ok(View::Face(x)) => x.surface,
+                _ => return Ok(()),
+            };
+            if next == id {
+                break;
+            }
+            cur = next;
+        }
+        Err(unsupported(self, id, "chain of surface entities (140, 143, 144, 510) loops or is longer than 8"))
     }
 
     /// The surface in its definition space (own transformation not applied).
@@ -442,9 +507,292 @@ impl Document {
             View::TrimmedSurface(t) => self.child_surface(t.surface, hint, depth)?,
             View::BoundedSurface(b) => self.child_surface(b.surface, hint, depth)?,
             View::Face(f) => self.child_surface(f.surface, hint, depth)?,
-            View::OffsetSurface(_) => return Err(unsupported(self, id, "offset surfaces have no exact NURBS form")),
+            View::OffsetSurface(o) => self.offset_local(id, &o, hint, depth, None)?.0,
             _ => return Err(unsupported(self, id, "not a surface entity")),
         })
+    }
+
+    /// The 140 offset surface `id` in model space (its transformation applied, extent from
+    /// the face that uses it as for [`surface`](Self::surface)), with how close it is.
+    ///
+    /// Offsets of planes (108, 190), cylinders (192), cones (194, when the face does not
+    /// reach the apex), spheres (196), tori (198) and 120 revolutions of a line or circular
+    /// arc lying in a plane through the axis on one side of it, under a rigid 124, are
+    /// exact: the same kind of surface with its radius or origin moved, in the same
+    /// parameterisation (`max_error` 0). Any other base is
+    /// approximated by [`offset::approximate_offset`] within `tolerance` (default
+    /// [`offset::DEFAULT_RELATIVE_TOLERANCE`] × the base's size), in the base's
+    /// parameterisation: `(u, v)` maps to the NURBS as for the base surface, like OCCT's
+    /// `Geom_OffsetSurface`. The offset is `S + D·N` (IGES 5.3 §4.20) with `N` the unit
+    /// normal `S_u × S_v / |S_u × S_v|` of the base in its IGES parameterisation: the
+    /// normal of the converted NURBS, except for a 120, which IGES parameterises as
+    /// (generatrix, angle), the other way round from OCCT's and cadmorph's (angle,
+    /// generatrix), so the side is the opposite of the NURBS normal there. OCCT agrees on
+    /// every base tried (it reverses the axis of the 120); it does not for a 120 under a
+    /// reflecting 124 (see the module notes). Like OCCT, the offset indicator
+    /// `(NX, NY, NZ)` is not used to choose the side.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Unsupported`] when `id` is not a 140, its base has no normal somewhere
+    /// (`offset::OffsetError::DegenerateNormal`), an exact offset passes through the axis or
+    /// centre (radius + D ≤ 0), or the approximation does not reach the tolerance; those of
+    /// [`surface`](Self::surface) for the base.
+    pub fn offset_surface(&self, id: EntityId, tolerance: Option<f64>) -> Result<OffsetSurfaceNurbs> {
+        let View::OffsetSurface(o) = self.view(id)? else {
+            return Err(unsupported(self, id, "not an offset surface (140)"));
+        };
+        let face = self.faces().into_iter().find(|f| f.surface == id && f.face != id);
+        let hint = match face {
+            Some(f) => self.boundary_points(f.face)?,
+            None => Vec::new(),
+        };
+        let m = self.transform(id)?;
+        let inv = m.try_inverse().ok_or(Error::Transform { de: id.0, reason: "singular transformation matrix" })?;
+        let local_hint: Vec<Point3<f64>> = hint.iter().map(|p| inv.transform_point(p)).collect();
+        let (mut s, fit) = self.offset_local(id, &o, &local_hint, 0, tolerance)?;
+        if m != Matrix4::identity() {
+            s.surface.transform_by(&m);
+        }
+        let (max_error, tolerance) = fit.map_or((0.0, 0.0), |f| (f.max_error, f.tolerance));
+        Ok(OffsetSurfaceNurbs { surface: s, exact: fit.is_none(), max_error, tolerance })
+    }
+
+    /// The 140 in its definition space, and the fit's numbers when approximated.
+    fn offset_local(
+        &self,
+        id: EntityId,
+        o: &crate::entity::OffsetSurface,
+        hint: &[Point3<f64>],
+        depth: usize,
+        tolerance: Option<f64>,
+    ) -> Result<(ExactSurface, Option<FitNumbers>)> {
+        let base = o.surface;
+        self.surface_chain(id)?;
+        // IGES parameterises a 120 as (generatrix t, angle θ) (§4.18), cadmorph and OCCT as
+        // (θ, t): the IGES normal S_t × S_θ is the opposite of S_u × S_v here. (OCCT's reader
+        // gets the IGES side by building the revolution about the reversed axis.)
+        let d = if self.entity(base)?.entity_type() == 120 { -o.distance } else { o.distance };
+        if !d.is_finite() {
+            return Err(unsupported(self, id, "offset surface with a non-finite distance"));
+        }
+        let mb = self.transform(base)?;
+        let lin: Matrix3<f64> = mb.fixed_view::<3, 3>(0, 0).into_owned();
+        let rigid = (lin.transpose() * lin - Matrix3::identity()).abs().max() <= 1e-12;
+        if rigid && depth < MAX_DEPTH {
+            let inv =
+                mb.try_inverse().ok_or(Error::Transform { de: base.0, reason: "singular transformation matrix" })?;
+            let local: Vec<Point3<f64>> = hint.iter().map(|p| inv.transform_point(p)).collect();
+            // A reflection turns the normal: offset the untransformed base the other way.
+            let dl = if lin.determinant() < 0.0 { -d } else { d };
+            if let Some(mut s) = self.exact_offset(id, base, dl, &local, depth + 1)? {
+                if mb != Matrix4::identity() {
+                    s.surface.transform_by(&mb);
+                }
+                return Ok((s, None));
+            }
+        }
+        let b = self.child_surface(base, hint, depth)?;
+        // (A base of size 0 has no normal: that error, not a bad tolerance.)
+        let tol =
+            tolerance.unwrap_or((offset::DEFAULT_RELATIVE_TOLERANCE * offset::size(&b.surface)).max(f64::MIN_POSITIVE));
+        let fit = offset::approximate_offset(&b.surface, d, tol).map_err(|e| match e {
+            offset::OffsetError::DegenerateNormal { .. } => unsupported(
+                self,
+                id,
+                "offset surface: the base surface has no normal at some point (a pole or collapsed edge with no limit normal)",
+            ),
+            offset::OffsetError::NotConverged { .. } => unsupported(
+                self,
+                id,
+                "offset surface: the B-spline approximation did not reach its tolerance (the offset folds, or is too detailed)",
+            ),
+            offset::OffsetError::BadInput => unsupported(self, id, "offset surface: non-finite distance or bad tolerance"),
+            offset::OffsetError::Geometry(source) => Error::Geometry { de: id.0, source },
+        })?;
+        let numbers = FitNumbers { max_error: fit.max_error, tolerance: fit.tolerance };
+        Ok((ExactSurface { surface: fit.surface, u_map: b.u_map, v_map: b.v_map }, Some(numbers)))
+    }
+
+    /// The exact offset by `d` of an analytic base in the base's definition space, or
+    /// `None` when the base is not one with an exact offset.
+    fn exact_offset(
+        &self,
+        id: EntityId,
+        base: EntityId,
+        d: f64,
+        hint: &[Point3<f64>],
+        depth: usize,
+    ) -> Result<Option<ExactSurface>> {
+        let g = geometry(id);
+        let through = || unsupported(self, id, "offset surface: the distance takes the radius to zero or below");
+        Ok(Some(match self.view(base)? {
+            View::Plane(_) | View::PlaneSurface(_) => {
+                let mut s = self.surface_local(base, hint, depth)?;
+                let (ud, vd) = s.surface.domain();
+                let n = s
+                    .surface
+                    .normal((ud.start() + ud.end()) / 2.0, (vd.start() + vd.end()) / 2.0)
+                    .ok_or_else(|| unsupported(self, id, "offset surface: the base plane has no normal"))?;
+                for p in s.surface.control_points_mut() {
+                    *p += n.into_inner() * d;
+                }
+                s
+            }
+            View::CylindricalSurface(cy) => {
+                let frame = self.frame(p_or(cy.location), cy.axis, cy.reference, &g)?;
+                let r = cy.radius + d;
+                if !(r > 0.0 && r.is_finite()) {
+                    return Err(through());
+                }
+                let cyl = Cylinder::try_new(frame, r).map_err(&g)?;
+                let (v0, v1) = axial_range(self, id, &frame, hint, 1.0)?;
+                cyl.to_nurbs(0.0..=TAU, v0..=v1).map_err(&g)?
+            }
+            View::ConicalSurface(co) => {
+                // S + d N with N = cos a·X_r − sin a·Z (where R + v sin a > 0): the cone with
+                // the same angle, radius R + d cos a, origin moved by −d sin a along the axis.
+                let frame = self.frame(p_or(co.location), co.axis, co.reference, &g)?;
+                let a = co.semi_angle_degrees.to_radians();
+                let r = co.radius + d * a.cos();
+                let o = frame.origin() - frame.z_dir() * (d * a.sin());
+                let moved = Placement::try_new(o, frame.z_dir(), frame.x_dir()).map_err(&g)?;
+                let (v0, v1) = axial_range(self, id, &moved, hint, a.cos())?;
+                // The base must stay on one side of its apex for the offset to be a cone.
+                let rho = |v: f64| r + v * a.sin();
+                if !(r >= 0.0 && rho(v0) > d * a.cos() && rho(v1) > d * a.cos()) {
+                    return Ok(None);
+                }
+                let cone = Cone::try_new(moved, r, a).map_err(&g)?;
+                cone.to_nurbs(0.0..=TAU, v0..=v1).map_err(&g)?
+            }
+            View::SphericalSurface(sp) => {
+                let o = self.point_of(sp.center)?;
+                let frame = match sp.axis {
+                    Some(ax) => self.frame(o.into(), ax, sp.reference, &g)?,
+                    None => Placement::try_new(o, Vector3::z(), Vector3::x()).map_err(&g)?,
+                };
+                let r = sp.radius + d;
+                if !(r > 0.0 && r.is_finite()) {
+                    return Err(through());
+                }
+                let s = Sphere::try_new(frame, r).map_err(&g)?;
+                s.to_nurbs(0.0..=TAU, -FRAC_PI_2..=FRAC_PI_2).map_err(&g)?
+            }
+            View::ToroidalSurface(t) => {
+                let frame = self.frame(p_or(t.center), t.axis, t.reference, &g)?;
+                let r = t.minor_radius + d;
+                if !(r > 0.0 && r.is_finite()) {
+                    return Err(through());
+                }
+                let s = Torus::try_new(frame, t.major_radius, r).map_err(&g)?;
+                s.to_nurbs(0.0..=TAU, -PI..=PI).map_err(&g)?
+            }
+            View::SurfaceOfRevolution(r) => {
+                let Some(gen) = self.revolution_offset_generatrix(id, &r, d)? else {
+                    return Ok(None);
+                };
+                let axis = self.curve(r.axis)?;
+                let (Some(a0), Some(a1)) =
+                    (axis.first().map(|c| c.control_points()[0]), axis.last().and_then(|c| c.control_points().last()))
+                else {
+                    return Ok(None);
+                };
+                let dom = gen.domain();
+                let rev = Revolution::try_new(gen, a0, a1 - a0).map_err(&g)?;
+                rev.to_nurbs(r.start_angle..=r.end_angle, dom).map_err(&g)?
+            }
+            _ => return Ok(None),
+        }))
+    }
+
+    /// For a 120 whose generatrix is a line (110) or circular arc (100) in a plane through
+    /// the axis, on one side of it: the generatrix of the offset surface (the line moved by
+    /// `d` along its normal in that plane, the arc with its radius changed by `±d`), in the
+    /// same parameterisation. `None` for other generatrices.
+    fn revolution_offset_generatrix(
+        &self,
+        id: EntityId,
+        r: &crate::entity::SurfaceOfRevolution,
+        d: f64,
+    ) -> Result<Option<NurbsCurve>> {
+        let arc_center = match self.view(r.generatrix)? {
+            View::Line(_) => None,
+            View::CircularArc(a) => {
+                let m = self.transform(r.generatrix)?;
+                Some(m.transform_point(&Point3::new(a.center[0], a.center[1], a.z)))
+            }
+            _ => return Ok(None),
+        };
+        let axis = self.curve(r.axis)?;
+        let (Some(a0), Some(a1)) =
+            (axis.first().map(|c| c.control_points()[0]), axis.last().and_then(|c| c.control_points().last()))
+        else {
+            return Ok(None);
+        };
+        let k = a1 - a0;
+        if !(k.norm() > 0.0 && k.norm().is_finite()) {
+            return Ok(None);
+        }
+        let k = k.normalize();
+        let mut gen = self.curve_joined(r.generatrix)?;
+        let dom = gen.domain();
+        let (t0, t1) = (*dom.start(), *dom.end());
+        let samples: Vec<Point3<f64>> = (0..=32).map(|i| gen.eval(t0 + (t1 - t0) * f64::from(i) / 32.0)).collect();
+        let radial = |p: &Point3<f64>| {
+            let q = p - a0;
+            q - k * q.dot(&k)
+        };
+        // The meridian plane: through the axis and the sample farthest from it.
+        let far = samples.iter().map(radial).fold(Vector3::zeros(), |a, b| if b.norm() > a.norm() { b } else { a });
+        let size = samples.iter().map(|p| (p - a0).norm()).fold(0.0, f64::max);
+        if !(far.norm() > 1e-9 * size && size.is_finite()) {
+            return Ok(None);
+        }
+        let rhat = far.normalize();
+        let m = k.cross(&rhat);
+        let planar = gen.control_points().iter().all(|p| (p - a0).dot(&m).abs() <= 1e-12 * size);
+        let one_side = samples.iter().all(|p| radial(p).dot(&rhat) > 1e-9 * size);
+        if !(planar && one_side) {
+            return Ok(None);
+        }
+        // The surface normal at angle 0: (k × (C − a0)) × C'.
+        let tm = (t0 + t1) / 2.0;
+        let dv = gen.derivs(tm, 1);
+        let c = Point3::from(dv[0]);
+        let n = k.cross(&(c - a0)).cross(&dv[1]);
+        if !(n.norm() > 0.0 && n.norm().is_finite()) {
+            return Ok(None);
+        }
+        let n = n.normalize();
+        match arc_center {
+            None => {
+                for p in gen.control_points_mut() {
+                    *p += n * d;
+                }
+            }
+            Some(center) => {
+                let radius = (c - center).norm();
+                if samples.iter().any(|p| ((p - center).norm() - radius).abs() > 1e-12 * size) {
+                    return Ok(None);
+                }
+                // Outward (away from the centre) or inward normal.
+                let s = if n.dot(&(c - center)) >= 0.0 { 1.0 } else { -1.0 };
+                let new = radius + s * d;
+                if !(new > 0.0 && new.is_finite()) {
+                    return Err(unsupported(
+                        self,
+                        id,
+                        "offset surface: the distance takes the radius to zero or below",
+                    ));
+                }
+                let f = new / radius;
+                for p in gen.control_points_mut() {
+                    *p = center + (*p - center) * f;
+                }
+            }
+        }
+        Ok(Some(gen))
     }
 
     /// A child surface mapped into the parent's definition space.
@@ -578,6 +926,8 @@ impl Document {
     ///
     /// As [`surface`](Self::surface).
     pub fn face_surface(&self, face: &FaceRef) -> Result<ExactSurface> {
+        self.surface_chain(face.face)?;
+        self.surface_chain(face.surface)?;
         if face.face == face.surface {
             return self.surface(face.surface);
         }
