@@ -279,6 +279,8 @@ impl Document {
 
     /// Replaces an analytic or spline surface (108, 114, 118, 120, 122, 190–198) by its
     /// exact B-spline form, a 128 under the same DE number with the same transformation.
+    /// An offset surface (140) becomes its B-spline form too: exact over an analytic
+    /// base, otherwise the fit within tolerance that [`surface`](Self::surface) gives.
     ///
     /// The parameter space changes (angles become rational-arc parameters), so trimming
     /// curves given in the old parameter space are dropped in favour of the model-space
@@ -307,12 +309,13 @@ impl Document {
     /// ```
     pub fn replace_with_bspline(&mut self, id: EntityId) -> Result<()> {
         let e = self.entity(id)?;
-        if !matches!(e.entity_type(), 108 | 114 | 118 | 120 | 122 | 190..=198) {
+        if !matches!(e.entity_type(), 108 | 114 | 118 | 120 | 122 | 140 | 190..=198) {
             return Err(Error::Unsupported {
                 de: id.0,
                 entity_type: e.entity_type(),
                 form: e.form(),
-                reason: "only analytic and spline surfaces (108, 114, 118, 120, 122, 190-198) are replaced",
+                reason:
+                    "only analytic, spline and offset surfaces (108, 114, 118, 120, 122, 140, 190-198) are replaced",
             });
         }
         let world = self.surface(id)?.surface;

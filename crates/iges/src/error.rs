@@ -235,7 +235,7 @@ mod tests {
             Error::Parameter { at, index: 2, what: "degree", expected: "an integer" },
             Error::Terminate { at, section: 'P', declared: 4, found: 5 },
             Error::NoEntity { de: 9 },
-            Error::Unsupported { de: 9, entity_type: 140, form: 0, reason: "offset surfaces have no exact NURBS form" },
+            Error::Unsupported { de: 9, entity_type: 140, form: 0, reason: "ellipse not in standard position" },
             Error::Transform { de: 9, reason: "transformation chain loops" },
             Error::Edit { de: 9, reason: "expected 12 points, found 11".into() },
         ];

@@ -14,7 +14,8 @@
 //! * [`Document::faces`], [`Document::face_surface`], [`Document::surface`] and
 //!   [`Document::curve`] convert geometry to exact `cadmorph_nurbs` curves and surfaces in
 //!   model units (124 transformation chains applied), in OpenCASCADE's parameterisation
-//!   (see [`convert`]). [`Document::surfaces`] summarises every face's surface.
+//!   (see [`convert`]); the one approximation is an offset surface (140) over a free-form
+//!   base, which no NURBS represents exactly: it is fitted within a stated tolerance. [`Document::surfaces`] summarises every face's surface.
 //! * Edits rewrite only the records they change: [`Document::set_control_points`],
 //!   [`Document::set_bspline_surface`], [`Document::set_bspline_curve`],
 //!   [`Document::replace_with_bspline`] and the raw [`Document::set_values`]. Sequence

@@ -212,6 +212,23 @@ fn mixed_solid_refinement_keeps_topology_edges_closed() {
     }
 }
 
+/// An offset surface (IGES 140) is a face like any other: a non-affine morph moves it,
+/// writing it as the B-spline it converts to, and the written file reads back.
+#[test]
+fn offset_surface_faces_move_too() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../iges/tests/data/conics_offset.igs");
+    let mut m = Model::from_bytes(&std::fs::read(path).unwrap()).unwrap();
+    let offsets = m.patches().iter().filter(|p| p.kind == "IGES 140").count();
+    assert!(offsets > 0, "the sample has offset faces");
+    let before: Vec<_> = m.patches().iter().map(|p| p.surface.clone()).collect();
+    let ffd = solid_ffd(&m);
+    m.morph(&ffd, &MorphOptions::default()).unwrap();
+    assert_eq!(m.patches().len(), before.len());
+    for (p, s) in m.patches().iter().zip(&before) {
+        assert!(p.surface != *s, "{} was left behind", p.source);
+    }
+}
+
 #[test]
 #[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
 fn occt_reads_morphed_files() {
