@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use cadmorph::model::{Model, MorphOptions};
+use cadmorph::model::{Model, MorphOptions, Progress};
 use cadmorph::morph::{Deformation, Parameters};
 use cadmorph::nurbs::Surface;
 use cadmorph::refdata::read_faces;
@@ -98,7 +98,7 @@ enum Command {
     },
     /// Insert knots: evenly spaced, or where a morph needs them to keep the seams.
     Refine {
-        /// The input IGES file.
+        /// The input IGES or STEP file.
         input: PathBuf,
         /// The output file.
         #[arg(short, long)]
@@ -239,9 +239,47 @@ fn sample(file: &Path, grid: usize, json: bool) -> Result<()> {
     Ok(())
 }
 
+/// A progress bar on standard error for the stages of long work. indicatif draws
+/// nothing when standard error is not a terminal, so pipes, logs and `--json` output
+/// stay clean.
+struct Bar(indicatif::ProgressBar);
+
+impl Bar {
+    fn new() -> Self {
+        let bar = indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr());
+        if let Ok(style) =
+            indicatif::ProgressStyle::with_template("{spinner} {msg:<22} {wide_bar} {pos}/{len} {elapsed}")
+        {
+            bar.set_style(style);
+        }
+        bar.enable_steady_tick(std::time::Duration::from_millis(120));
+        Self(bar)
+    }
+}
+
+impl Drop for Bar {
+    fn drop(&mut self) {
+        self.0.finish_and_clear();
+    }
+}
+
+impl Progress for Bar {
+    fn start(&self, stage: &str, total: u64) {
+        self.0.set_message(stage.to_owned());
+        self.0.set_length(total);
+        self.0.set_position(0);
+    }
+    fn step(&self, n: u64) {
+        self.0.inc(n);
+    }
+}
+
 fn seams(file: &Path, samples: usize, json: bool) -> Result<()> {
     let m = open(file)?;
-    let r = m.seams(samples);
+    let r = {
+        let bar = Bar::new();
+        m.seams_with_progress(samples, &bar)
+    };
     if json {
         println!("{}", serde_json::to_string_pretty(&r)?);
     } else {
@@ -262,7 +300,11 @@ fn morph(
 ) -> Result<()> {
     let start = Instant::now();
     let mut m = open(input)?;
-    let outcome = m.morph(d, &opts).with_context(|| format!("morphing {}", input.display()))?;
+    let outcome = {
+        let bar = Bar::new();
+        let outcome = m.morph_with_progress(d, &opts, &bar);
+        outcome.with_context(|| format!("morphing {}", input.display()))?
+    };
     m.save(output).with_context(|| format!("writing {}", output.display()))?;
     let elapsed = start.elapsed().as_secs_f64();
     if let Some(r) = report {

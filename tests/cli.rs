@@ -106,3 +106,27 @@ fn morph_writes_a_file_and_reports_seams() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("holds ffd parameters"));
     assert!(!bad.exists());
 }
+
+#[test]
+fn refine_writes_step_and_iges_with_the_same_geometry() {
+    let dir = std::env::temp_dir().join(format!("cadmorph-cli-refine-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for name in ["hull3.stp", "hull3.igs"] {
+        let out_file = dir.join(name);
+        let input = format!("samples/{name}");
+        let out = cadmorph(&["refine", &input, "-o", out_file.to_str().unwrap(), "--knots", "4"]);
+        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        let before = cadmorph::model::Model::open(std::path::Path::new(&input)).unwrap();
+        let after = cadmorph::model::Model::open(&out_file).unwrap();
+        for (p, q) in before.patches().iter().zip(after.patches()) {
+            // 4 knots per direction on each bicubic patch: 4 more poles each way.
+            assert_eq!((q.surface.n_u(), q.surface.n_v()), (p.surface.n_u() + 4, p.surface.n_v() + 4), "{name}");
+            for (u, v) in cadmorph_testkit::grid(&p.surface, 7) {
+                let d = (cadmorph::nurbs::Surface::eval(&p.surface, u, v)
+                    - cadmorph::nurbs::Surface::eval(&q.surface, u, v))
+                .norm();
+                assert!(d < 1e-9, "{name}: refinement moved the surface by {d}");
+            }
+        }
+    }
+}

@@ -23,4 +23,4 @@ mod model;
 mod topology;
 
 pub use error::{Error, Result};
-pub use model::{Format, Info, Model, MorphOptions, MorphOutcome, Patch, PatchInfo, Source};
+pub use model::{Format, Info, Model, MorphOptions, MorphOutcome, Patch, PatchInfo, Progress, Silent, Source};

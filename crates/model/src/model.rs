@@ -91,6 +91,21 @@ pub struct Model {
     trims: Vec<TrimEdge>,
 }
 
+/// Progress of long model work (seam measurement, refinement, moving control points,
+/// writing), for a progress bar. Both methods default to doing nothing.
+pub trait Progress: Sync {
+    /// A stage of `total` steps begins (`total` 0: unknown).
+    fn start(&self, _stage: &str, _total: u64) {}
+    /// `n` more steps of the current stage are done.
+    fn step(&self, _n: u64) {}
+}
+
+/// Reports no progress.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Silent;
+
+impl Progress for Silent {}
+
 /// Settings of [`Model::morph`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct MorphOptions {
@@ -345,20 +360,37 @@ impl Model {
     /// The seams after a morph: iso edges found again, trim edges at the face parameters
     /// they had before (`samples`), when the faces kept their parameter domains;
     /// otherwise the trim edges found again.
-    fn seams_at(&self, samples: &[EdgeSamples], domains: &[(RangeInclusive<f64>, RangeInclusive<f64>)]) -> SeamReport {
+    fn seams_at(
+        &self,
+        samples: &[EdgeSamples],
+        domains: &[(RangeInclusive<f64>, RangeInclusive<f64>)],
+        progress: &dyn Progress,
+    ) -> SeamReport {
         let now: Vec<_> = self.patches.iter().map(|p| p.surface.domain()).collect();
         if now != domains {
-            return self.seams(200);
+            return self.seams_with_progress(200, progress);
         }
+        progress.start("measuring seams", (self.iso.len() + samples.len()) as u64);
         let faces: Vec<Face> =
             self.patches.iter().map(|p| Face { surface: &p.surface, reversed: p.reversed }).collect();
         let iso = self.iso.iter().map(|e| measure_boundary(&faces, e, 200));
-        SeamReport::new(iso.chain(samples.iter().map(|s| measure_edge_samples(&faces, s))).collect())
+        let trims = samples.iter().map(|s| measure_edge_samples(&faces, s));
+        SeamReport::new(iso.chain(trims).inspect(|_| progress.step(1)).collect())
     }
 
     /// Measures every shared edge, iso-boundary and trim edges, with `samples` points.
     pub fn seams(&self, samples: usize) -> SeamReport {
-        seams_of(&self.patches, &self.iso, &self.trims, samples)
+        self.seams_with_progress(samples, &Silent)
+    }
+
+    /// [`seams`](Self::seams), reporting each edge measured to `progress`.
+    pub fn seams_with_progress(&self, samples: usize, progress: &dyn Progress) -> SeamReport {
+        progress.start("measuring seams", (self.iso.len() + self.trims.len()) as u64);
+        let faces: Vec<Face> =
+            self.patches.iter().map(|p| Face { surface: &p.surface, reversed: p.reversed }).collect();
+        let iso = self.iso.iter().map(|e| measure_boundary(&faces, e, samples));
+        let trims = self.trims.iter().map(|e| measure_edge(&faces, e, samples));
+        SeamReport::new(iso.chain(trims).inspect(|_| progress.step(1)).collect())
     }
 
     /// The document as bytes: the input, byte for byte, where nothing was edited.
@@ -393,12 +425,8 @@ impl Model {
     ///
     /// # Errors
     ///
-    /// [`Error::Unsupported`] for STEP files and for seam refinement without a morph;
-    /// the file layer's errors.
+    /// [`Error::Unsupported`] for seam refinement without a morph; the file layer's errors.
     pub fn refine(&mut self, opts: &MorphOptions, d: Option<&dyn Deformation>) -> Result<(usize, usize)> {
-        if self.format() != Format::Iges {
-            return Err(Error::Unsupported("refinement is written for IGES so far"));
-        }
         let before: usize = self.patches.iter().map(|p| p.surface.control_points().len()).sum();
         let mut patches: Vec<NurbsSurface> = self.patches.iter().map(|p| p.surface.clone()).collect();
         if let Some(n) = opts.uniform_knots {
@@ -412,16 +440,32 @@ impl Model {
             let d = d.ok_or(Error::Unsupported("seam refinement needs the morph it refines for"))?;
             refine_edges(&mut patches, &self.iso, &self.trims, d, &r);
         }
-        let Doc::Iges(doc) = &mut self.doc else { unreachable!("checked above") };
-        for (p, s) in self.patches.iter().zip(&patches) {
-            if let (Source::Iges { surface, .. }, false) = (p.source, p.analytic) {
-                if s != &p.surface {
-                    doc.set_bspline_surface(iges::EntityId(surface), s)?;
+        // Analytic faces keep their exact analytic form: inserting knots does not change
+        // the geometry, and a plane or cylinder needs none until it moves.
+        match &mut self.doc {
+            Doc::Iges(doc) => {
+                for (p, s) in self.patches.iter().zip(&patches) {
+                    if let (Source::Iges { surface, .. }, false) = (p.source, p.analytic) {
+                        if s != &p.surface {
+                            doc.set_bspline_surface(iges::EntityId(surface), s)?;
+                        }
+                    }
+                }
+            }
+            Doc::Step(doc) => {
+                let faces = doc.faces()?;
+                for (p, s) in self.patches.iter().zip(&patches) {
+                    if let (Source::Step { face, .. }, false) = (p.source, p.analytic) {
+                        if s != &p.surface {
+                            if let Some(f) = faces.iter().find(|f| f.id.0 == face) {
+                                doc.set_face_surface(f, s)?;
+                            }
+                        }
+                    }
                 }
             }
         }
-        let again = Model::from_bytes(&self.to_bytes())?;
-        *self = again;
+        *self = Model::from_bytes(&self.to_bytes())?;
         Ok((before, self.patches.iter().map(|p| p.surface.control_points().len()).sum()))
     }
 
@@ -436,8 +480,22 @@ impl Model {
     /// [`Error::NonFinite`] or [`Error::Folded`] before anything is changed; the file
     /// layers' errors.
     pub fn morph(&mut self, d: &dyn Deformation, opts: &MorphOptions) -> Result<MorphOutcome> {
+        self.morph_with_progress(d, opts, &Silent)
+    }
+
+    /// [`morph`](Self::morph), reporting its stages to `progress`.
+    ///
+    /// # Errors
+    ///
+    /// Those of [`morph`](Self::morph).
+    pub fn morph_with_progress(
+        &mut self,
+        d: &dyn Deformation,
+        opts: &MorphOptions,
+        progress: &dyn Progress,
+    ) -> Result<MorphOutcome> {
         let edges = self.iso.clone();
-        let seams_before = self.seams(200);
+        let seams_before = self.seams_with_progress(200, progress);
         // Where the trim edges lie on their faces, in the faces' parameters: the seams
         // after the morph are measured there, between the faces' own trimmed boundaries.
         let faces: Vec<Face> =
@@ -454,8 +512,12 @@ impl Model {
                 refine_uniform(s, n);
             }
         }
-        let refinement = opts.refine.map(|r| refine_edges(&mut patches, &edges, &self.trims, d, &r));
+        let refinement = opts.refine.map(|r| {
+            progress.start("refining", 0);
+            refine_edges(&mut patches, &edges, &self.trims, d, &r)
+        });
         let refined = patches.clone();
+        progress.start("moving control points", patches.len() as u64);
         // Move and check every control point before touching the document.
         for (p, s) in self.patches.iter().zip(&mut patches) {
             for (i, q) in s.control_points_mut().iter_mut().enumerate() {
@@ -471,6 +533,7 @@ impl Model {
                 }
                 *q = moved;
             }
+            progress.step(1);
         }
         if opts.repair {
             for e in &edges {
@@ -487,6 +550,7 @@ impl Model {
                 }
             }
         }
+        progress.start("writing", 0);
         let (faces_rewritten, curves_rewritten) = match &mut self.doc {
             Doc::Iges(doc) => write_iges(doc, &self.patches, &refined, &patches, d)?,
             Doc::Step(doc) => write_step(doc, &self.patches, &refined, &patches, d, opts.repair)?,
@@ -501,7 +565,7 @@ impl Model {
             curves_rewritten,
             refinement,
             seams_before,
-            seams_after: self.seams_at(&trim_samples, &domains),
+            seams_after: self.seams_at(&trim_samples, &domains, progress),
         })
     }
 }
@@ -514,12 +578,6 @@ fn size_of(patches: &[Patch]) -> f64 {
 /// How far apart two sides may be and still be one edge: `1e-3 ×` the model size.
 fn edge_tol(patches: &[Patch]) -> f64 {
     1e-3 * size_of(patches)
-}
-
-fn seams_of(patches: &[Patch], edges: &[SharedBoundary], trims: &[TrimEdge], samples: usize) -> SeamReport {
-    let faces: Vec<Face> = patches.iter().map(|p| Face { surface: &p.surface, reversed: p.reversed }).collect();
-    let iso = edges.iter().map(|e| measure_boundary(&faces, e, samples));
-    SeamReport::new(iso.chain(trims.iter().map(|e| measure_edge(&faces, e, samples))).collect())
 }
 
 fn moved_by(d: &dyn Deformation, pts: &[Point3<f64>]) -> bool {

@@ -56,7 +56,7 @@ fn mixed_solid_edges_from_topology_agree_with_occt() {
             ((a.min(b), a.max(b)), s["max_normal_angle_deg"].as_f64().unwrap(), s["edge_length"].as_f64().unwrap())
         })
         .collect();
-    occt.sort_by(|x, y| x.0.cmp(&y.0));
+    occt.sort_by_key(|x| x.0);
     assert_eq!(occt.len(), 29);
     for name in ["mixed_solid.stp", "mixed_solid_brep.igs", "mixed_solid.igs"] {
         let m = open(name);
@@ -70,11 +70,10 @@ fn mixed_solid_edges_from_topology_agree_with_occt() {
                 ((a.min(b), a.max(b)), e.g1_angle_deg.max, e.length, e.gap_matched.max)
             })
             .collect();
-        ours.sort_by(|x, y| x.0.cmp(&y.0));
-        let pairs = |v: &[(u64, u64)]| v.to_vec();
+        ours.sort_by_key(|x| x.0);
         assert_eq!(
-            pairs(&ours.iter().map(|o| o.0).collect::<Vec<_>>()),
-            pairs(&occt.iter().map(|o| o.0).collect::<Vec<_>>()),
+            ours.iter().map(|o| o.0).collect::<Vec<_>>(),
+            occt.iter().map(|o| o.0).collect::<Vec<_>>(),
             "{name}: face pairs"
         );
         for (o, c) in ours.iter().zip(&occt) {

@@ -103,6 +103,10 @@ impl TrimEdge {
     }
 }
 
+/// One sample of [`EdgeSamples`]: edge parameter, `(u, v)` on the first face and on the
+/// second.
+pub type EdgeSample = (f64, (f64, f64), (f64, f64));
+
 /// Where the samples of a [`TrimEdge`] lie on its two faces: what [`measure_edge`]
 /// measures, kept so that the same surface points can be measured again after the
 /// faces move (their parameters are those of the faces, which a morph of control
@@ -117,7 +121,7 @@ pub struct EdgeSamples {
     /// The edge's entity in the file.
     pub label: Option<String>,
     /// Edge parameter, then `(u, v)` on the first and on the second face.
-    pub at: Vec<(f64, (f64, f64), (f64, f64))>,
+    pub at: Vec<EdgeSample>,
 }
 
 impl TrimEdge {

@@ -35,7 +35,7 @@ mod repair;
 mod seams_refine;
 
 pub use adjacency::{shared_boundaries, SharedBoundary, SideRef};
-pub use edge::{measure_edge, measure_edge_samples, shared_curves, EdgeSamples, TrimCurve, TrimEdge};
+pub use edge::{measure_edge, measure_edge_samples, shared_curves, EdgeSample, EdgeSamples, TrimCurve, TrimEdge};
 pub use error::{Error, Result};
 pub use measure::{measure_boundary, EdgeEnd, EdgeReport, Face, SeamReport, Stat, SHARP_EDGE_DEG};
 pub use refine::{deformed, morph_error, refine_for, refine_uniform, RefineOptions, Refinement, Scope};

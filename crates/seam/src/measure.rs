@@ -310,8 +310,8 @@ impl SeamReport {
         let mut out = String::new();
         let _ = writeln!(
             out,
-            "{:<7} {:<7} {:>10} {:>12} {:>12} {:>12} {:>11} {:>10}  {}",
-            "face a", "face b", "length", "gap closest", "gap matched", "gap mean", "G1 (deg)", "C1 rel", "edge"
+            "{:<7} {:<7} {:>10} {:>12} {:>12} {:>12} {:>11} {:>10}  edge",
+            "face a", "face b", "length", "gap closest", "gap matched", "gap mean", "G1 (deg)", "C1 rel"
         );
         for e in &self.edges {
             let c1 = e.c1_mismatch.map_or_else(|| "-".to_owned(), |c| format!("{:.3e}", c.max));

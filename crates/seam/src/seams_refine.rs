@@ -251,7 +251,7 @@ pub fn refine_edges<D: Deformation + ?Sized>(
                     };
                     gap += if err.is_nan() { f64::INFINITY } else { err };
                     angle += dev;
-                    if !(err <= opts.tol / 2.0) || dev > opts.angle_tol_deg / 2.0 {
+                    if err.is_nan() || err > opts.tol / 2.0 || dev > opts.angle_tol_deg / 2.0 {
                         marks.at(patch, span_of(&ubreaks[patch], of.u), span_of(&vbreaks[patch], of.v));
                     }
                 }
