@@ -255,11 +255,14 @@ fn occt_reads_morphed_files() {
         assert_eq!(json["valid"], true, "{name}: {json}");
         assert_eq!(json["n_faces"].as_u64(), Some(3), "{name}: {json}");
     }
-    for name in ["mixed_solid.igs", "mixed_solid.stp", "mixed_solid_brep.igs"] {
+    for (name, refine) in
+        ["mixed_solid.igs", "mixed_solid.stp", "mixed_solid_brep.igs"].into_iter().flat_map(|n| [(n, false), (n, true)])
+    {
         let mut m = open(name);
         let ffd = solid_ffd(&m);
-        m.morph(&ffd, &MorphOptions::default()).unwrap();
-        let out = dir.join(name);
+        let refine = refine.then(|| SeamRefineOptions::new(1e-4 * m.size(), 0.5));
+        m.morph(&ffd, &MorphOptions { refine, ..Default::default() }).unwrap();
+        let out = dir.join(format!("{}{name}", if refine.is_some() { "refined_" } else { "" }));
         m.save(&out).unwrap();
         let (code, json) = cadmorph_testkit::harness::validate(&out, None);
         assert_eq!(code, 0, "{name}: {json}");
