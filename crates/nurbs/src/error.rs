@@ -141,6 +141,15 @@ pub enum Error {
         /// What is wrong.
         reason: &'static str,
     },
+    /// An interpolation or fit that cannot be done: wrong point count, a singular
+    /// system, non-finite points, or a tolerance not reached (with the deviation reached).
+    #[error("fit: {reason}{}", if reached.is_finite() { format!(" (deviation {reached:e})") } else { String::new() })]
+    Fit {
+        /// What failed.
+        reason: String,
+        /// The deviation reached, or infinity where none applies.
+        reached: f64,
+    },
 }
 
 /// Result with the kernel's [`Error`].

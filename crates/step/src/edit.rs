@@ -399,9 +399,12 @@ impl Document {
             if let Some(c) = curve_id {
                 let curve = ctx_doc.curve_nurbs_local(c)?;
                 let ids = ctx_doc.control_point_ids(c)?;
-                let targets: Vec<Point3<f64>> =
-                    greville(&curve).iter().map(|&g| on_face(&Curve::eval(&curve, g))).collect();
-                if let Some(new_pts) = interpolate(&curve, &targets) {
+                let targets: Vec<Point3<f64>> = cadmorph_nurbs::greville(curve.knots(), curve.degree())
+                    .iter()
+                    .map(|&g| on_face(&Curve::eval(&curve, g)))
+                    .collect();
+                let fitted = cadmorph_nurbs::interpolate(curve.degree(), curve.knots(), &targets);
+                if let Some(new_pts) = fitted.ok().map(|c| c.control_points().to_vec()) {
                     for (id, p) in ids.iter().zip(new_pts) {
                         if !moved.contains_key(&id.0) {
                             edge_points.insert(id.0, p);
@@ -517,41 +520,6 @@ fn bspline_of(ctx: &Ctx<'_>, id: EntityId) -> Result<Option<EntityId>> {
 }
 
 /// Greville abscissae `(t_{i+1} + … + t_{i+p}) / p`.
-fn greville(c: &NurbsCurve) -> Vec<f64> {
-    let p = c.degree();
-    let k = c.knots().as_slice();
-    (0..c.control_points().len()).map(|i| k[i + 1..=i + p].iter().sum::<f64>() / p as f64).collect()
-}
-
-/// Control points of a non-rational curve with `c`'s knots that interpolate `targets` at
-/// the Greville abscissae (Piegl & Tiller A9.1 with fixed knots and parameters).
-fn interpolate(c: &NurbsCurve, targets: &[Point3<f64>]) -> Option<Vec<Point3<f64>>> {
-    let n = targets.len();
-    let p = c.degree();
-    let g = greville(c);
-    let mut a = nalgebra::DMatrix::<f64>::zeros(n, n);
-    for (row, &t) in g.iter().enumerate() {
-        let span = c.knots().find_span(p, t);
-        let basis = cadmorph_nurbs::basis_funs(c.knots(), p, t);
-        for (j, b) in basis.iter().enumerate() {
-            let col = span + j - p;
-            if col < n {
-                a[(row, col)] = *b;
-            }
-        }
-    }
-    let lu = a.lu();
-    let mut out = vec![Point3::origin(); n];
-    for d in 0..3 {
-        let rhs = nalgebra::DVector::from_iterator(n, targets.iter().map(|q| q[d]));
-        let x = lu.solve(&rhs)?;
-        for i in 0..n {
-            out[i][d] = x[i];
-        }
-    }
-    Some(out)
-}
-
 fn weight_text(w: &[f64], rows: Option<usize>) -> String {
     match rows {
         Some(n_u) if n_u > 0 && w.len() % n_u == 0 => {

@@ -1,0 +1,141 @@
+//! Curves through points: interpolation at the Greville abscissae of given knots, and an
+//! adaptive fit of a function of one parameter (an edge traced on a morphed face).
+
+use crate::math::Point3;
+use crate::{basis_funs, Error, KnotVector, NurbsCurve, Result};
+
+/// The Greville abscissae of degree `p` over `knots`: `(t[i+1] + … + t[i+p]) / p`, one
+/// per control point, where each basis function peaks roughly.
+pub fn greville(knots: &KnotVector, p: usize) -> Vec<f64> {
+    let k = knots.as_slice();
+    let n = k.len().saturating_sub(p + 1);
+    (0..n).map(|i| k[i + 1..=i + p].iter().sum::<f64>() / p.max(1) as f64).collect()
+}
+
+/// The non-rational curve of degree `p` on `knots` through `targets`, one per control
+/// point, at the Greville abscissae (The NURBS Book A9.1 with the knots given): a
+/// dense solve, meant for the tens to hundreds of poles of an edge.
+///
+/// # Errors
+///
+/// [`Error::Fit`] when `targets` does not have one point per control point or the
+/// collocation matrix is singular (repeated abscissae).
+pub fn interpolate(p: usize, knots: &KnotVector, targets: &[Point3<f64>]) -> Result<NurbsCurve> {
+    let g = greville(knots, p);
+    let n = g.len();
+    if targets.len() != n || n == 0 {
+        return Err(Error::Fit {
+            reason: format!("{} points to interpolate with {n} control points", targets.len()),
+            reached: f64::INFINITY,
+        });
+    }
+    let mut a = nalgebra::DMatrix::<f64>::zeros(n, n);
+    for (row, &t) in g.iter().enumerate() {
+        let span = knots.find_span(p, t);
+        for (j, b) in basis_funs(knots, p, t).iter().enumerate() {
+            let col = span + j - p;
+            if col < n {
+                a[(row, col)] = *b;
+            }
+        }
+    }
+    let lu = a.lu();
+    let mut poles = vec![Point3::origin(); n];
+    for d in 0..3 {
+        let rhs = nalgebra::DVector::from_iterator(n, targets.iter().map(|q| q[d]));
+        let x = lu.solve(&rhs).ok_or_else(|| Error::Fit {
+            reason: "singular collocation matrix at the Greville abscissae".to_owned(),
+            reached: f64::INFINITY,
+        })?;
+        for (pole, xi) in poles.iter_mut().zip(x.iter()) {
+            pole[d] = *xi;
+        }
+    }
+    NurbsCurve::try_new(p, knots.clone(), poles, None)
+}
+
+/// A cubic (or degree `p`) B-spline on uniform knots over `domain` that follows `f`
+/// within `tol`: interpolation at the Greville abscissae, checked at the quarter points
+/// of every span, with the spans doubled until the check passes or `max_poles` would be
+/// exceeded. Returns the curve and the largest deviation found at the check points.
+///
+/// # Errors
+///
+/// [`Error::Fit`] when `max_poles` poles do not reach `tol` (with the deviation reached)
+/// or `f` is not finite; [`Error::EmptyDomain`] for an empty domain.
+pub fn fit_curve(
+    f: impl Fn(f64) -> Point3<f64>,
+    domain: (f64, f64),
+    p: usize,
+    tol: f64,
+    max_poles: usize,
+) -> Result<(NurbsCurve, f64)> {
+    let (t0, t1) = domain;
+    if t1.partial_cmp(&t0) != Some(std::cmp::Ordering::Greater) {
+        return Err(Error::EmptyDomain { start: t0, end: t1 });
+    }
+    let mut spans = 1usize;
+    let mut best = f64::INFINITY;
+    loop {
+        let interior: Vec<f64> = (1..spans).map(|i| t0 + (t1 - t0) * i as f64 / spans as f64).collect();
+        let mut k = vec![t0; p + 1];
+        k.extend(&interior);
+        k.extend(std::iter::repeat_n(t1, p + 1));
+        let knots = KnotVector::try_new(k)?;
+        let targets: Vec<Point3<f64>> = greville(&knots, p).into_iter().map(&f).collect();
+        if targets.iter().any(|q| !q.coords.iter().all(|c| c.is_finite())) {
+            return Err(Error::Fit { reason: "the function to fit is not finite".to_owned(), reached: f64::INFINITY });
+        }
+        let c = interpolate(p, &knots, &targets)?;
+        let mut err: f64 = 0.0;
+        for s in 0..spans {
+            for q in [0.25, 0.5, 0.75] {
+                let t = t0 + (t1 - t0) * (s as f64 + q) / spans as f64;
+                err = err.max((crate::Curve::eval(&c, t) - f(t)).norm());
+            }
+        }
+        best = best.min(err);
+        if err <= tol {
+            return Ok((c, err));
+        }
+        if spans * 2 + p > max_poles {
+            return Err(Error::Fit { reason: format!("{max_poles} poles do not reach {tol:e}"), reached: best });
+        }
+        spans *= 2;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Curve;
+
+    #[test]
+    fn interpolation_reproduces_a_cubic_exactly() {
+        // A cubic B-spline sampled at its own Greville abscissae comes back pole for pole.
+        let knots = KnotVector::try_new(vec![0., 0., 0., 0., 0.3, 0.6, 1., 1., 1., 1.]).unwrap();
+        let poles: Vec<Point3<f64>> =
+            (0..6).map(|i| Point3::new(i as f64, (i as f64 * 1.3).sin(), (i * i) as f64 * 0.1)).collect();
+        let c = NurbsCurve::try_new(3, knots.clone(), poles.clone(), None).unwrap();
+        let targets: Vec<_> = greville(&knots, 3).into_iter().map(|t| c.eval(t)).collect();
+        let back = interpolate(3, &knots, &targets).unwrap();
+        for (a, b) in back.control_points().iter().zip(&poles) {
+            assert!((a - b).norm() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn fit_follows_a_helix_within_tolerance() {
+        let helix = |t: f64| Point3::new(t.cos(), t.sin(), 0.2 * t);
+        let (c, err) = fit_curve(helix, (0.0, 6.0), 3, 1e-7, 2000).unwrap();
+        assert!(err <= 1e-7);
+        for k in 0..=997 {
+            let t = 6.0 * k as f64 / 997.0;
+            assert!((c.eval(t) - helix(t)).norm() < 2e-7, "at {t}");
+        }
+        // Cubic convergence: a hundred times tighter costs about 100^(1/4) ≈ 3x the spans.
+        let (coarse, _) = fit_curve(helix, (0.0, 6.0), 3, 1e-5, 2000).unwrap();
+        assert!(coarse.control_points().len() < c.control_points().len());
+        assert!(matches!(fit_curve(helix, (0.0, 6.0), 3, 1e-15, 20), Err(Error::Fit { .. })));
+    }
+}
