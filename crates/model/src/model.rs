@@ -1,6 +1,6 @@
 //! The model: patches of an IGES or STEP document, seams, morph, save.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashSet};
 use std::fmt;
 use std::ops::RangeInclusive;
 use std::path::Path;
@@ -618,7 +618,8 @@ fn inserted_knots(base: &NurbsSurface, refined: &NurbsSurface, target: &NurbsSur
     ))
 }
 
-/// `target` with the knots the refinement of `base` into `refined` added.
+/// `target` (another copy of `base`'s geometry) with the knots that took `base` to
+/// `refined`; `target` itself where the two do not match.
 fn refined_like(base: &NurbsSurface, refined: &NurbsSurface, target: &NurbsSurface) -> NurbsSurface {
     let mut out = target.clone();
     if let Some((xu, xv)) = inserted_knots(base, refined, target) {
@@ -660,7 +661,23 @@ fn write_iges(
         }
         faces += 1;
     }
-    // Model-space curves: independent 126s and the model-space 126 of every 142.
+    // Curves that bound faces (trims, B-rep edges) are traced on their morphed face;
+    // any other model-space 126 moves its control points.
+    let tol = 1e-7 * size_of(old);
+    let mut n_curves = 0;
+    let mut traced: HashSet<u32> = HashSet::new();
+    for (id, patch) in face_curves(doc, old) {
+        let Ok(pieces) = doc.curve(id) else { continue };
+        let [c] = pieces.as_slice() else { continue };
+        if !moved_by(d, c.control_points()) || !traced.insert(id.0) {
+            continue;
+        }
+        if let Some(new_curve) = follow_face(c, &old[patch].surface, &new[patch], d, tol) {
+            if doc.set_bspline_curve(id, &new_curve)? {
+                n_curves += 1;
+            }
+        }
+    }
     let mut curves: Vec<iges::EntityId> = Vec::new();
     for e in doc.entities() {
         match e.entity_type() {
@@ -679,8 +696,7 @@ fn write_iges(
     }
     curves.sort_by_key(|c| c.0);
     curves.dedup();
-    let mut n_curves = 0;
-    for id in curves {
+    for id in curves.into_iter().filter(|id| !traced.contains(&id.0)) {
         let Ok(pieces) = doc.curve(id) else { continue };
         let [c] = pieces.as_slice() else { continue };
         let pts = d.deformed(c.control_points());
@@ -689,6 +705,134 @@ fn write_iges(
         }
     }
     Ok((faces, n_curves))
+}
+
+/// The model-space curves that bound faces, each with the (first) patch it bounds: 142
+/// model curves of 144 faces, 141 curves of 143 faces, edges of 504 lists used by the
+/// loops of 510 faces; composite curves (102) give their members.
+fn face_curves(doc: &iges::Document, patches: &[Patch]) -> Vec<(iges::EntityId, usize)> {
+    let mut out = Vec::new();
+    let push = |id: iges::EntityId, patch: usize, out: &mut Vec<(iges::EntityId, usize)>| match doc.view(id) {
+        Ok(iges::View::CompositeCurve(c)) => out.extend(c.curves.into_iter().map(|m| (m, patch))),
+        _ => out.push((id, patch)),
+    };
+    for (pi, p) in patches.iter().enumerate() {
+        let Source::Iges { face, .. } = p.source else { continue };
+        match doc.view(iges::EntityId(face)) {
+            Ok(iges::View::TrimmedSurface(t)) => {
+                for b in t.outer.into_iter().chain(t.inner) {
+                    if let Ok(iges::View::CurveOnSurface(c)) = doc.view(b) {
+                        if let Some(m) = c.model_curve {
+                            push(m, pi, &mut out);
+                        }
+                    }
+                }
+            }
+            Ok(iges::View::BoundedSurface(bs)) => {
+                for b in bs.boundaries {
+                    if let Ok(iges::View::Boundary(bd)) = doc.view(b) {
+                        for bc in bd.curves {
+                            push(bc.curve, pi, &mut out);
+                        }
+                    }
+                }
+            }
+            Ok(iges::View::Face(f)) => {
+                for lp in f.loops {
+                    let Ok(iges::View::Loop(l)) = doc.view(lp) else { continue };
+                    for le in l.edges.iter().filter(|le| le.kind == 0) {
+                        let Ok(iges::View::EdgeList(el)) = doc.view(le.list) else { continue };
+                        let edge =
+                            usize::try_from(le.index).ok().and_then(|k| k.checked_sub(1)).and_then(|k| el.edges.get(k));
+                        if let Some(edge) = edge {
+                            push(edge.curve, pi, &mut out);
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+/// The curve `c`, lying on `before`, made to lie on `after` (the same face morphed, in the
+/// same parameters): its control points moved by `d` where that stays within `tol` of
+/// the face's image of the curve (always for affine maps and for iso-boundaries that
+/// share the face's knots), else a cubic fit of that image within `tol`. `None` when
+/// neither works (the curve is left as it is).
+fn follow_face(
+    c: &cadmorph_nurbs::NurbsCurve,
+    before: &NurbsSurface,
+    after: &NurbsSurface,
+    d: &dyn Deformation,
+    tol: f64,
+) -> Option<cadmorph_nurbs::NurbsCurve> {
+    use cadmorph_nurbs::{Curve, SurfaceProject};
+    let dom = c.domain();
+    let (t0, t1) = (*dom.start(), *dom.end());
+    let size = before.control_points().iter().map(|p| p.coords.norm()).fold(0.0, f64::max).max(1.0);
+    let ptol = 1e-12 * size;
+    let last = std::cell::Cell::new(None::<(f64, f64)>);
+    let image = |t: f64| {
+        let p = c.eval(t);
+        let pr = match last.get() {
+            Some(uv) => {
+                let local = before.project_from(&p, uv, ptol);
+                if local.distance_sq.sqrt() <= 1e-6 * size {
+                    local
+                } else {
+                    before.project(&p, ptol)
+                }
+            }
+            None => before.project(&p, ptol),
+        };
+        last.set(Some((pr.u, pr.v)));
+        after.eval(pr.u, pr.v)
+    };
+    let mut moved = c.clone();
+    d.deform(moved.control_points_mut());
+    let n = 8 * moved.control_points().len() + 1;
+    let off = (0..n).map(|k| t0 + (t1 - t0) * k as f64 / (n - 1) as f64).map(|t| (moved.eval(t) - image(t)).norm());
+    if off.fold(0.0, f64::max) <= tol {
+        return Some(moved);
+    }
+    // The image bends where the curve crosses a knot line of the morphed face: break the
+    // fit there.
+    let uv = |t: f64| {
+        let p = c.eval(t);
+        let pr = before.project(&p, ptol);
+        (pr.u, pr.v)
+    };
+    let spans = |(u, v): (f64, f64)| {
+        (after.u_knots().find_span(after.u_degree(), u), after.v_knots().find_span(after.v_degree(), v))
+    };
+    let crossings = after.u_knots().len() + after.v_knots().len();
+    let m = (16 * crossings).clamp(64, 4096);
+    let ts: Vec<f64> = (0..=m).map(|k| t0 + (t1 - t0) * k as f64 / m as f64).collect();
+    let cells: Vec<(usize, usize)> = ts.iter().map(|&t| spans(uv(t))).collect();
+    let mut breaks = Vec::new();
+    for k in 0..m {
+        if cells[k] == cells[k + 1] {
+            continue;
+        }
+        let (mut lo, mut hi) = (ts[k], ts[k + 1]);
+        for _ in 0..40 {
+            let mid = 0.5 * (lo + hi);
+            if spans(uv(mid)) == cells[k] {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        breaks.push(0.5 * (lo + hi));
+    }
+    last.set(None);
+    match cadmorph_nurbs::fit_curve(image, (t0, t1), &breaks, 3, tol, 4 * (breaks.len() + 1) * 16 + 64) {
+        Ok((f, _)) => Some(f),
+        // Moved control points at least follow the morph, if not the face exactly.
+        Err(_) => Some(moved),
+    }
 }
 
 /// STEP: refined faces are rewritten first (unmoved), analytic faces that move become

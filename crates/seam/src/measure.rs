@@ -245,7 +245,9 @@ pub fn measure_boundary(faces: &[Face], edge: &SharedBoundary, samples: usize) -
         let matched = (pa - pb).norm();
         let on_b = local(sb, &pa, (ub, vb), matched);
         let on_a = local(sa, &pb, (ua, va), matched);
-        let closest = on_b.distance_sq.sqrt().max(on_a.distance_sq.sqrt());
+        // Each side's matched point lies on the other face, so no closest distance can
+        // exceed the matched one: a projection that says so has lost its way.
+        let closest = on_b.distance_sq.sqrt().min(matched).max(on_a.distance_sq.sqrt().min(matched));
         gap_closest.add(closest, pa, t);
         if let (Some(na), Some(nb)) = (oriented_normal(fa, ua, va), oriented_normal(fb, on_b.u, on_b.v)) {
             let a = angle_deg(&na, &nb);
