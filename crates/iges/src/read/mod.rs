@@ -446,7 +446,7 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
         p_blocks.push(PBlock::Loose(next..n_p));
     }
     let zero_padded = lines.first().is_some_and(|l| bytes.get(l.start + 73) == Some(&b'0'));
-    Ok(Document { source: bytes.to_vec(), lines, layout, global, entities, p_blocks, edited: false, zero_padded })
+    Ok(Document { source, lines, layout, global, entities, p_blocks, edited: false, zero_padded })
 }
 
 #[cfg(test)]
