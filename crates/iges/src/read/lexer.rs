@@ -86,105 +86,15 @@ const POW10: [f64; 23] = [
     1e21, 1e22,
 ];
 
-/// The common case in one pass: at most 15 significant digits and a decimal exponent of
-/// at most 22, where `m · 10^e` or `m / 10^e` with `m` and `10^e` exact in an f64 is the
-/// correctly rounded value (Clinger's fast path), so the result equals `str::parse`'s.
-/// `None` sends the token to the full grammar and parser.
-#[inline]
-fn fast_number(s: &[u8]) -> Option<Raw> {
-    let mut i = 0;
-    let neg = match s.first() {
-        Some(b'-') => {
-            i = 1;
-            true
-        }
-        Some(b'+') => {
-            i = 1;
-            false
-        }
-        _ => false,
-    };
-    let mut m: u64 = 0;
-    let mut digits = 0usize;
-    let mut significant = 0usize;
-    let mut scale: i32 = 0;
-    while i < s.len() && s[i].is_ascii_digit() {
-        m = m * 10 + u64::from(s[i] - b'0');
-        if m != 0 {
-            significant += 1;
-        }
-        digits += 1;
-        i += 1;
-        if digits > 18 {
-            return None;
-        }
-    }
-    if i == s.len() {
-        if digits == 0 {
-            return None;
-        }
-        let v = m as i64;
-        return Some(Raw::Integer(if neg { -v } else { v }));
-    }
-    if s[i] == b'.' {
-        i += 1;
-        while i < s.len() && s[i].is_ascii_digit() {
-            m = m * 10 + u64::from(s[i] - b'0');
-            if m != 0 {
-                significant += 1;
-            }
-            digits += 1;
-            scale -= 1;
-            i += 1;
-            if digits > 18 {
-                return None;
-            }
-        }
-    }
-    if digits == 0 || significant > 15 {
-        return None;
-    }
-    if i < s.len() {
-        if !matches!(s[i], b'E' | b'e' | b'D' | b'd') {
-            return None;
-        }
-        i += 1;
-        let eneg = match s.get(i) {
-            Some(b'-') => {
-                i += 1;
-                true
-            }
-            Some(b'+') => {
-                i += 1;
-                false
-            }
-            _ => false,
-        };
-        let start = i;
-        let mut e: i32 = 0;
-        while i < s.len() && s[i].is_ascii_digit() && i - start < 4 {
-            e = e * 10 + i32::from(s[i] - b'0');
-            i += 1;
-        }
-        if i == start || i != s.len() {
-            return None;
-        }
-        scale += if eneg { -e } else { e };
-    }
-    let x = m as f64;
-    let v = match scale {
-        0 => x,
-        1..=22 => x * POW10[scale as usize],
-        -22..=-1 => x / POW10[(-scale) as usize],
-        _ => return None,
-    };
-    Some(Raw::Real(if neg { -v } else { v }))
-}
-
 /// Parses one number token (no blanks inside).
+///
+/// The common forms go through the tokenizer's one-pass [`scan`]; the rest (long
+/// mantissas, large exponents) through the full grammar and `str::parse`.
 pub(crate) fn parse_number(s: &[u8]) -> Option<Raw> {
-    if let Some(r) = fast_number(s) {
-        return Some(r);
+    if let Scan::Value(raw, end) = scan(s, 0) {
+        if end == s.len() {
+            return Some(raw);
+        }
     }
     let (rest, (digits, dot, exp)) = number(s).ok()?;
     if !rest.is_empty() || digits == 0 {
@@ -231,37 +141,43 @@ enum Scan {
     Slow,
 }
 
-/// Whether the 8 bytes of `v` (little-endian) are all ASCII digits.
-#[inline]
-fn eight_digits(v: u64) -> bool {
-    (v & 0xF0F0_F0F0_F0F0_F0F0) | (((v.wrapping_add(0x0606_0606_0606_0606)) & 0xF0F0_F0F0_F0F0_F0F0) >> 4)
-        == 0x3333_3333_3333_3333
-}
-
-/// The value of 8 ASCII digits read little-endian (SWAR: pairs, then quads, then all).
-#[inline]
+/// The value of 8 digits (each byte 0–9) read little-endian, the first byte most
+/// significant (SWAR: pairs, then quads, then all).
+#[inline(always)]
 fn eight_digit_value(v: u64) -> u64 {
     let v = (v & 0x0F0F_0F0F_0F0F_0F0F).wrapping_mul(2561) >> 8;
     let v = (v & 0x00FF_00FF_00FF_00FF).wrapping_mul(6_553_601) >> 16;
     (v & 0x0000_FFFF_0000_FFFF).wrapping_mul(42_949_672_960_001) >> 32
 }
 
-/// Accumulates the digits from `i` into `m`, 8 at a time where it can; returns the end.
-/// `count` becomes `usize::MAX` past 19 digits (where `m` could overflow).
-#[inline]
+/// Powers of ten as integers, for appending a run of up to 8 digits.
+const POW10_U64: [u64; 9] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000, 10_000_000, 100_000_000];
+
+/// Accumulates the digits from `i` into `m`; returns the end. Eight bytes are read at a
+/// time: the run of leading digits among them is found from a mask (no per-digit
+/// branch) and its value added in one SWAR step. `count` becomes `usize::MAX` past 19
+/// digits (where `m` could overflow).
+#[inline(always)]
 fn digits(text: &[u8], mut i: usize, m: &mut u64, count: &mut usize) -> usize {
-    while let Some(chunk) = text.get(i..i + 8) {
-        let v = u64::from_le_bytes([chunk[0], chunk[1], chunk[2], chunk[3], chunk[4], chunk[5], chunk[6], chunk[7]]);
-        if !eight_digits(v) {
-            break;
+    while let Some(chunk) = text.get(i..).and_then(|t| t.first_chunk::<8>()) {
+        // Digits become 0–9; any other byte has its high bit set in `nd`.
+        let x = u64::from_le_bytes(*chunk) ^ 0x3030_3030_3030_3030;
+        let nd = (x.wrapping_add(0x7676_7676_7676_7676) | x) & 0x8080_8080_8080_8080;
+        let n = (nd.trailing_zeros() / 8) as usize;
+        if n == 0 {
+            return i;
         }
-        if *count + 8 > 19 {
+        if *count + n > 19 {
             *count = usize::MAX;
             return i;
         }
-        *m = *m * 100_000_000 + eight_digit_value(v);
-        *count += 8;
-        i += 8;
+        // The first n bytes moved to the top: leading zeros below them.
+        *m = *m * POW10_U64[n] + eight_digit_value(x << (8 * (8 - n)));
+        *count += n;
+        i += n;
+        if n < 8 {
+            return i;
+        }
     }
     while i < text.len() && text[i].is_ascii_digit() {
         if *count >= 19 {
@@ -278,8 +194,9 @@ fn digits(text: &[u8], mut i: usize, m: &mut u64, count: &mut usize) -> usize {
 /// One pass over a parameter: an integer, a real whose digits make an integer of at most
 /// 2⁵³ with a decimal exponent within ±22 (Clinger's fast path: `m · 10^e` or `m / 10^e`
 /// with both exact is the correctly rounded value, so the result equals `str::parse`'s),
-/// or the count of a Hollerith string.
-#[inline]
+/// or the count of a Hollerith string. The one number scanner of the crate: the
+/// tokenizer (sequential and chunked) and [`parse_number`] both use it.
+#[inline(always)]
 fn scan(text: &[u8], start: usize) -> Scan {
     let len = text.len();
     let mut i = start;
