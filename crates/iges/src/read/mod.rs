@@ -331,8 +331,9 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
     let n = d.len() / 2;
     let n_p = layout.parameter.len();
     let p0 = layout.parameter.start;
-    let mut entities: Vec<Entity> = Vec::with_capacity(n);
-    for k in 0..n {
+    // Each entry and its record are read on their own, in parallel; the first error in
+    // directory order is reported, as a sequential read would.
+    let read_entity = |k: usize| -> Result<Entity> {
         let la = d.start + 2 * k;
         let a = &bytes[lines[la].start..lines[la].end];
         let b = &bytes[lines[la + 1].start..lines[la + 1].end];
@@ -374,7 +375,7 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
                 found: snippet(&text[..text.len().min(16)]),
             });
         }
-        entities.push(Entity {
+        Ok(Entity {
             id,
             directory: dir,
             text,
@@ -386,8 +387,13 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
             d_line: la + 1,
             new_lines: None,
             directory_changed: false,
-        });
-    }
+        })
+    };
+    let entities: Vec<Entity> = {
+        use rayon::prelude::*;
+        let read: Vec<Result<Entity>> = (0..n).into_par_iter().map(read_entity).collect();
+        read.into_iter().collect::<Result<_>>()?
+    };
     // Directory pointers that must name an entry.
     for e in &entities {
         let dir = &e.directory;
