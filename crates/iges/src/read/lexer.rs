@@ -308,10 +308,11 @@ pub(crate) enum Stop {
     At(usize),
 }
 
-/// Records of at least two of these are split into chunks tokenized in parallel. Below
-/// that the second thread does not pay for the extra memory (the chunks' tokens are
-/// copied into one vector, and fresh pages cost as much as the scan).
-const CHUNK: usize = 1 << 21;
+/// Records of at least two of these are split into chunks tokenized in parallel (with
+/// the records themselves read in parallel, chunks of this size keep both cores busy
+/// on files of a few large surfaces; the chunks' tokens are copied into one vector,
+/// which smaller records do not repay).
+const CHUNK: usize = 1 << 18;
 
 /// The tokens of a whole record, in parallel for long records: the text is cut at line
 /// starts into chunks, each tokenized as if a parameter started there; the cut is
@@ -383,6 +384,20 @@ pub(crate) fn tokenize_until<S: Sink>(
     let len = text.len();
     let fast = !numeric(pd) && !numeric(rd) && !is_blank(pd) && !is_blank(rd);
     loop {
+        if fast {
+            // The bulk of a record: a number directly followed by the parameter
+            // delimiter. Anything else (blanks, defaults, strings, the record end, long
+            // numbers) leaves this loop for the general steps below, which see the same
+            // text as if this loop had not run.
+            while pos < stop {
+                let Scan::Value(raw, end) = scan(text, pos) else { break };
+                if text.get(end) != Some(&pd) {
+                    break;
+                }
+                out.put(pos, raw);
+                pos = end + 1;
+            }
+        }
         while pos < len && is_blank(text[pos]) && text[pos] != pd && text[pos] != rd {
             pos += 1;
         }
