@@ -319,8 +319,11 @@ const CHUNK: usize = 1 << 18;
 /// accepted only if the chunk before it, read on, starts a parameter at exactly the same
 /// place (so a cut inside a string or number, or just before a delimiter, is detected).
 /// Otherwise the record is read in one piece, so the result is always the sequential one.
+/// With one thread the record is read in one piece (the copy of the chunks' tokens would
+/// buy nothing).
 pub(crate) fn tokenize_record(text: &[u8], pd: u8, rd: u8, width: usize) -> Result<Vec<Raw>, LexError> {
-    chunked(text, pd, rd, width, CHUNK).map(|(t, _)| t)
+    let chunk = if rayon::current_num_threads() > 1 { CHUNK } else { usize::MAX };
+    chunked(text, pd, rd, width, chunk).map(|(t, _)| t)
 }
 
 /// [`tokenize_record`], and whether the parallel cut was used.
