@@ -9,6 +9,8 @@ use nom::character::complete::{char, digit0, digit1, one_of};
 use nom::combinator::opt;
 use nom::{IResult, Parser};
 
+use crate::document::Line;
+
 /// One parameter value as stored: strings as byte ranges into the record text.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum Raw {
@@ -308,71 +310,181 @@ pub(crate) enum Stop {
     At(usize),
 }
 
-/// Records of at least two of these are split into chunks tokenized in parallel (with
-/// the records themselves read in parallel, chunks of this size keep both cores busy
-/// on files of a few large surfaces; the chunks' tokens are copied into one vector,
+/// Records of at least two of these (bytes) are split into chunks tokenized in parallel
+/// (with the records themselves read in parallel, chunks of this size keep both cores
+/// busy on files of a few large surfaces; the chunks' tokens are copied into one vector,
 /// which smaller records do not repay).
 const CHUNK: usize = 1 << 18;
 
-/// The tokens of a whole record, in parallel for long records: the text is cut at line
-/// starts into chunks, each tokenized as if a parameter started there; the cut is
-/// accepted only if the chunk before it, read on, starts a parameter at exactly the same
-/// place (so a cut inside a string or number, or just before a delimiter, is detected).
-/// Otherwise the record is read in one piece, so the result is always the sequential one.
-/// With one thread the record is read in one piece (the copy of the chunks' tokens would
-/// buy nothing).
-pub(crate) fn tokenize_record(text: &[u8], pd: u8, rd: u8, width: usize) -> Result<Vec<Raw>, LexError> {
-    let chunk = if rayon::current_num_threads() > 1 { CHUNK } else { usize::MAX };
-    chunked(text, pd, rd, width, chunk).map(|(t, _)| t)
+/// Lines copied at a time into the window a long record is tokenized through (a few KiB,
+/// so the copy stays in the L1 cache and the record's text is never built whole).
+const WINDOW: usize = 64;
+
+/// A record as lines of the input: the data field of line `j` (its first `width` bytes,
+/// fewer only for a last, short line) holds the record text from offset `j * width`.
+#[derive(Clone, Copy)]
+pub(crate) struct RecordLines<'a> {
+    pub bytes: &'a [u8],
+    pub lines: &'a [Line],
+    pub width: usize,
 }
 
-/// [`tokenize_record`], and whether the parallel cut was used.
-fn chunked(text: &[u8], pd: u8, rd: u8, width: usize, chunk: usize) -> Result<(Vec<Raw>, bool), LexError> {
-    let n = text.len() / chunk;
-    let fast = !numeric(pd) && !numeric(rd) && !is_blank(pd) && !is_blank(rd);
-    if n < 2 || !fast {
-        let mut out: Vec<Raw> = Vec::with_capacity(text.len() / 8 + 16);
-        tokenize(text, 0, pd, rd, &mut out)?;
-        return Ok((out, false));
+impl RecordLines<'_> {
+    fn field(&self, j: usize) -> &[u8] {
+        let l = self.lines[j];
+        &self.bytes[l.start..(l.start + self.width).min(l.end)]
     }
-    let cuts: Vec<usize> = (0..=n).map(|k| if k == n { text.len() } else { k * chunk / width * width }).collect();
-    use rayon::prelude::*;
-    let parts: Vec<Option<(Vec<Raw>, Stop)>> = (0..n)
-        .into_par_iter()
-        .map(|k| {
-            let mut out: Vec<Raw> = Vec::with_capacity((cuts[k + 1] - cuts[k]) / 8 + 16);
-            let stop = if k + 1 == n { usize::MAX } else { cuts[k + 1] };
-            tokenize_until(text, cuts[k], pd, rd, stop, &mut out).ok().map(|s| (out, s))
-        })
-        .collect();
-    let mut tokens = Vec::with_capacity(parts.iter().flatten().map(|p| p.0.len()).sum());
-    let mut ok = true;
-    for (k, part) in parts.into_iter().enumerate() {
-        let Some((toks, stop)) = part else {
-            ok = false;
-            break;
-        };
-        let expected = if k + 1 == n {
-            matches!(stop, Stop::End(_))
-        } else {
-            let mut q = cuts[k + 1];
-            while q < text.len() && is_blank(text[q]) {
-                q += 1;
-            }
-            stop == Stop::At(q)
-        };
-        if !expected {
-            ok = false;
-            break;
+
+    /// The fields of lines `range`, concatenated into `buf`.
+    fn copy(&self, range: std::ops::Range<usize>, buf: &mut Vec<u8>) {
+        buf.clear();
+        for j in range {
+            buf.extend_from_slice(self.field(j));
         }
-        tokens.extend(toks);
     }
-    if ok {
-        return Ok((tokens, true));
+
+    /// The whole record text.
+    pub fn text(&self) -> Vec<u8> {
+        let mut text = Vec::with_capacity(self.lines.len() * self.width);
+        self.copy(0..self.lines.len(), &mut text);
+        text
     }
-    let mut out: Vec<Raw> = Vec::with_capacity(text.len() / 8 + 16);
-    tokenize(text, 0, pd, rd, &mut out)?;
-    Ok((out, false))
+
+    /// The first offset at or after `q` that is not a blank (or the text's end).
+    fn skip_blanks(&self, mut q: usize) -> usize {
+        while q / self.width < self.lines.len()
+            && self.field(q / self.width).get(q % self.width).is_some_and(|&c| is_blank(c))
+        {
+            q += 1;
+        }
+        q
+    }
+}
+
+/// A sink that moves string offsets from a window to the whole record.
+struct Shifted<'a> {
+    out: &'a mut Vec<Raw>,
+    base: usize,
+}
+
+impl Sink for Shifted<'_> {
+    #[inline]
+    fn put(&mut self, _offset: usize, raw: Raw) {
+        self.out.push(match raw {
+            Raw::Text { start, len } => Raw::Text { start: (start as usize + self.base) as u32, len },
+            r => r,
+        });
+    }
+}
+
+/// [`tokenize_until`] on a record given as lines, from offset `from`, through windows of
+/// [`WINDOW`] lines: each window is tokenized up to the start of its last line, so every
+/// parameter read from it ends within it in a well-formed record, and the tokens are
+/// those the whole text gives. `None` when a window cannot decide (a parameter running
+/// past its end, or any error): then only the whole text can.
+fn tokenize_window(
+    rec: &RecordLines,
+    from: usize,
+    stop: usize,
+    pd: u8,
+    rd: u8,
+    buf: &mut Vec<u8>,
+    out: &mut Vec<Raw>,
+) -> Option<Stop> {
+    let (n, w) = (rec.lines.len(), rec.width);
+    let mut p = from;
+    loop {
+        let a = p / w;
+        if a >= n {
+            return None;
+        }
+        let b = (a + WINDOW).min(n);
+        rec.copy(a..b, buf);
+        let base = a * w;
+        let local = if b == n { stop.saturating_sub(base) } else { stop.min((b - 1) * w) - base };
+        match tokenize_until(buf, p - base, pd, rd, local, &mut Shifted { out, base }) {
+            Ok(Stop::End(e)) => return Some(Stop::End(base + e)),
+            Ok(Stop::At(q)) if base + q >= stop => return Some(Stop::At(base + q)),
+            Ok(Stop::At(q)) => p = base + q,
+            Err(_) => return None,
+        }
+    }
+}
+
+/// The tokens of a whole record given as lines, and its text if it had to be built
+/// (short records, and records a window cannot read: long strings, numbers across a
+/// window's end, errors, whose positions are then those of the whole text).
+///
+/// Long records are read in parallel: the lines are cut into chunks, each tokenized as
+/// if a parameter started at its first line; a cut is accepted only if the chunk before
+/// it, read on, starts a parameter at exactly the same place (so a cut inside a string
+/// or number, or just before a delimiter, is detected). Otherwise the record is read in
+/// one piece, so the result is always the sequential one. With one thread the record is
+/// read in one piece (the copy of the chunks' tokens would buy nothing).
+pub(crate) fn tokenize_record(rec: &RecordLines, pd: u8, rd: u8) -> Result<(Vec<Raw>, Option<Vec<u8>>), LexError> {
+    let chunk = if rayon::current_num_threads() > 1 { CHUNK } else { usize::MAX };
+    chunked(rec, pd, rd, chunk).map(|(t, text, _)| (t, text))
+}
+
+/// What [`chunked`] read: tokens, the text if it was built, whether the parallel cut
+/// was used.
+type Read = (Vec<Raw>, Option<Vec<u8>>, bool);
+
+/// [`tokenize_record`], and whether the parallel cut was used.
+fn chunked(rec: &RecordLines, pd: u8, rd: u8, chunk: usize) -> Result<Read, LexError> {
+    let (n_lines, w) = (rec.lines.len(), rec.width);
+    let whole = |out: &mut Vec<Raw>| -> Result<Read, LexError> {
+        let text = rec.text();
+        out.clear();
+        tokenize(&text, 0, pd, rd, out)?;
+        Ok((std::mem::take(out), Some(text), false))
+    };
+    if n_lines <= WINDOW {
+        return whole(&mut Vec::with_capacity(n_lines * w / 8 + 16));
+    }
+    let len = n_lines * w;
+    let n = len / chunk;
+    let fast = !numeric(pd) && !numeric(rd) && !is_blank(pd) && !is_blank(rd);
+    if n >= 2 && fast {
+        let cuts: Vec<usize> = (0..=n).map(|k| if k == n { n_lines } else { k * chunk / w }).collect();
+        use rayon::prelude::*;
+        let parts: Vec<Option<(Vec<Raw>, Stop)>> = (0..n)
+            .into_par_iter()
+            .map(|k| {
+                let mut out: Vec<Raw> = Vec::with_capacity((cuts[k + 1] - cuts[k]) * w / 8 + 16);
+                let mut buf = Vec::with_capacity(WINDOW * w);
+                let stop = if k + 1 == n { usize::MAX } else { cuts[k + 1] * w };
+                tokenize_window(rec, cuts[k] * w, stop, pd, rd, &mut buf, &mut out).map(|s| (out, s))
+            })
+            .collect();
+        let mut tokens = Vec::with_capacity(parts.iter().flatten().map(|p| p.0.len()).sum());
+        let mut ok = true;
+        for (k, part) in parts.into_iter().enumerate() {
+            let Some((toks, stop)) = part else {
+                ok = false;
+                break;
+            };
+            let expected = if k + 1 == n {
+                matches!(stop, Stop::End(_))
+            } else {
+                stop == Stop::At(rec.skip_blanks(cuts[k + 1] * w))
+            };
+            if !expected {
+                ok = false;
+                break;
+            }
+            tokens.extend(toks);
+        }
+        if ok {
+            return Ok((tokens, None, true));
+        }
+    }
+    let mut out: Vec<Raw> = Vec::with_capacity(len / 8 + 16);
+    let mut buf = Vec::with_capacity(WINDOW * w);
+    if let Some(Stop::End(_)) = tokenize_window(rec, 0, usize::MAX, pd, rd, &mut buf, &mut out) {
+        return Ok((out, None, false));
+    }
+    whole(&mut out)
 }
 
 /// [`tokenize`], stopping at the first parameter that starts at or after `stop`.
@@ -538,6 +650,13 @@ mod tests {
     /// Chunk size of the chunking test (small, so records stay small).
     const TEST_CHUNK: usize = 1 << 14;
 
+    /// A text cut into 64-byte lines.
+    fn lines_of(text: &[u8]) -> Vec<Line> {
+        (0..text.len().div_ceil(64))
+            .map(|j| Line { start: 64 * j, end: (64 * j + 64).min(text.len()), next: (64 * j + 64).min(text.len()) })
+            .collect()
+    }
+
     proptest::proptest! {
         #![proptest_config(proptest::test_runner::Config { cases: 64, ..Default::default() })]
         /// Long records read in parallel chunks give exactly the sequential tokens, also
@@ -567,8 +686,13 @@ mod tests {
             rec.push_str(&format!("{line:64}"));
             let mut seq: Vec<Raw> = Vec::new();
             tokenize(rec.as_bytes(), 0, b',', b';', &mut seq).unwrap();
-            let (par, parallel) = chunked(rec.as_bytes(), b',', b';', 64, TEST_CHUNK).unwrap();
+            let lines = lines_of(rec.as_bytes());
+            let lines = RecordLines { bytes: rec.as_bytes(), lines: &lines, width: 64 };
+            let (par, _, parallel) = chunked(&lines, b',', b';', TEST_CHUNK).unwrap();
             proptest::prop_assert!(seq == par);
+            // Through windows on one thread: the same tokens.
+            let (windowed, _, _) = chunked(&lines, b',', b';', usize::MAX).unwrap();
+            proptest::prop_assert!(seq == windowed);
             if strings == 0 {
                 // Without strings every cut falls on a line start before a parameter.
                 proptest::prop_assert!(parallel);

@@ -2,7 +2,9 @@
 
 pub(crate) mod lexer;
 
-use crate::document::{Directory, Document, Entity, EntityId, Layout, Line, PBlock, Status};
+use std::sync::Arc;
+
+use crate::document::{Directory, Document, Entity, EntityId, Layout, Line, PBlock, RecordText, Source, Status};
 use crate::error::{snippet, Error, Position, Result};
 use crate::global::Global;
 use lexer::{hollerith_at, tokenize, LexError, Raw, Token};
@@ -315,10 +317,11 @@ fn directory(a: &[u8], b: &[u8], line: usize, entries: usize) -> Result<Director
 
 /// Reads the whole document, taking ownership of the bytes (kept for writing).
 pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
-    let bytes = &source[..];
-    let lines = split_lines(bytes);
-    let layout = sections(bytes, &lines)?;
-    let global = global(bytes, &lines, &layout)?;
+    let lines = split_lines(&source);
+    let src = Arc::new(Source { bytes: source, lines });
+    let (bytes, lines) = (&src.bytes[..], &src.lines[..]);
+    let layout = sections(bytes, lines)?;
+    let global = global(bytes, lines, &layout)?;
     let (pd, rd) = (global.parameter_delimiter, global.record_delimiter);
 
     let d = layout.directory.clone();
@@ -351,10 +354,8 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
             });
         }
         let (p_first, p_count) = ((first - 1) as usize, count as usize);
-        let mut text = Vec::with_capacity(p_count * P_WIDTH);
-        for l in &lines[p0 + p_first..p0 + p_first + p_count] {
-            text.extend_from_slice(&bytes[l.start..l.start + P_WIDTH]);
-        }
+        let range = p0 + p_first..p0 + p_first + p_count;
+        let rec = lexer::RecordLines { bytes, lines: &lines[range.clone()], width: P_WIDTH };
         // Columns 65–72 of the first line point back to the entry.
         let first_line = &bytes[lines[p0 + p_first].start..lines[p0 + p_first].end];
         let back = trim(&first_line[64..72]);
@@ -367,14 +368,19 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
         }
         let p_line = p0 + p_first + 1;
         let map = |off: usize| pos('P', p_line + off / P_WIDTH, off % P_WIDTH + 1, Some(id.0));
-        let tokens = lexer::tokenize_record(&text, pd, rd, P_WIDTH).map_err(|e| lex_position(&e, &map))?;
+        let (tokens, text) = lexer::tokenize_record(&rec, pd, rd).map_err(|e| lex_position(&e, &map))?;
         if tokens.first().copied() != Some(Raw::Integer(i64::from(dir.entity_type))) {
             return Err(Error::Mismatch {
                 at: map(0),
                 expected: format!("entity type {} first", dir.entity_type),
-                found: snippet(&text[..text.len().min(16)]),
+                found: snippet(&first_line[..16]),
             });
         }
+        // Long records keep no copy of their text: it is built from the input if asked for.
+        let text = match text {
+            Some(t) => RecordText::owned(t),
+            None => RecordText::lazy(Arc::clone(&src), range),
+        };
         Ok(Entity {
             id,
             directory: dir,
@@ -452,7 +458,7 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
         p_blocks.push(PBlock::Loose(next..n_p));
     }
     let zero_padded = lines.first().is_some_and(|l| bytes.get(l.start + 73) == Some(&b'0'));
-    Ok(Document { source, lines, layout, global, entities, p_blocks, edited: false, zero_padded })
+    Ok(Document { src, layout, global, entities, p_blocks, edited: false, zero_padded })
 }
 
 #[cfg(test)]
