@@ -456,13 +456,17 @@ fn chunked(rec: &RecordLines, pd: u8, rd: u8, chunk: usize) -> Result<Read, LexE
         let parts: Vec<Option<(Vec<Raw>, Stop)>> = (0..n)
             .into_par_iter()
             .map(|k| {
-                let mut out: Vec<Raw> = Vec::with_capacity((cuts[k + 1] - cuts[k]) * w / 8 + 16);
+                // The first chunk's vector receives the others' tokens (only they are
+                // copied), so it is sized for the whole record.
+                let lines = if k == 0 { n_lines } else { cuts[k + 1] - cuts[k] };
+                let mut out: Vec<Raw> = Vec::with_capacity(lines * w / 8 + 16);
                 let mut buf = Vec::with_capacity(WINDOW * w);
                 let stop = if k + 1 == n { usize::MAX } else { cuts[k + 1] * w };
                 tokenize_window(rec, cuts[k] * w, stop, pd, rd, &mut buf, &mut out).map(|s| (out, s))
             })
             .collect();
-        let mut tokens = Vec::with_capacity(parts.iter().flatten().map(|p| p.0.len()).sum());
+        let total: usize = parts.iter().flatten().map(|p| p.0.len()).sum();
+        let mut tokens = Vec::new();
         let mut ok = true;
         for (k, part) in parts.into_iter().enumerate() {
             let Some((toks, stop)) = part else {
@@ -478,7 +482,12 @@ fn chunked(rec: &RecordLines, pd: u8, rd: u8, chunk: usize) -> Result<Read, LexE
                 ok = false;
                 break;
             }
-            tokens.extend(toks);
+            if k == 0 {
+                tokens = toks;
+                tokens.reserve(total - tokens.len());
+            } else {
+                tokens.extend(toks);
+            }
         }
         if ok {
             return Ok((tokens, None, true));
