@@ -144,6 +144,8 @@ pub struct Entity {
     pub(crate) text: RecordText,
     /// Parameters, the entity type first.
     pub(crate) tokens: Vec<Raw>,
+    /// Whether a parameter is a string (else slices of numbers need no check for one).
+    pub(crate) strings: bool,
     /// The file's delimiters (to recompute token offsets for error positions).
     pub(crate) delimiters: (u8, u8),
     /// Index of its first line in the P section (0-based) and line count, as read.

@@ -124,6 +124,7 @@ impl Document {
             e.directory_changed = true;
         }
         e.text = crate::document::RecordText::owned(text);
+        e.strings = tokens.iter().any(|t| matches!(t, Raw::Text { .. }));
         e.tokens = tokens;
         e.new_lines = Some(lines);
         e.p_line = 0;

@@ -366,17 +366,22 @@ impl RecordLines<'_> {
     }
 }
 
-/// A sink that moves string offsets from a window to the whole record.
+/// A sink that moves string offsets from a window to the whole record, and notes
+/// whether there were any.
 struct Shifted<'a> {
     out: &'a mut Vec<Raw>,
     base: usize,
+    strings: &'a mut bool,
 }
 
 impl Sink for Shifted<'_> {
     #[inline]
     fn put(&mut self, _offset: usize, raw: Raw) {
         self.out.push(match raw {
-            Raw::Text { start, len } => Raw::Text { start: (start as usize + self.base) as u32, len },
+            Raw::Text { start, len } => {
+                *self.strings = true;
+                Raw::Text { start: (start as usize + self.base) as u32, len }
+            }
             r => r,
         });
     }
@@ -386,7 +391,9 @@ impl Sink for Shifted<'_> {
 /// [`WINDOW`] lines: each window is tokenized up to the start of its last line, so every
 /// parameter read from it ends within it in a well-formed record, and the tokens are
 /// those the whole text gives. `None` when a window cannot decide (a parameter running
-/// past its end, or any error): then only the whole text can.
+/// past its end, or any error): then only the whole text can. `strings` is set if a
+/// string was read.
+#[allow(clippy::too_many_arguments)]
 fn tokenize_window(
     rec: &RecordLines,
     from: usize,
@@ -395,6 +402,7 @@ fn tokenize_window(
     rd: u8,
     buf: &mut Vec<u8>,
     out: &mut Vec<Raw>,
+    strings: &mut bool,
 ) -> Option<Stop> {
     let (n, w) = (rec.lines.len(), rec.width);
     let mut p = from;
@@ -407,7 +415,7 @@ fn tokenize_window(
         rec.copy(a..b, buf);
         let base = a * w;
         let local = if b == n { stop.saturating_sub(base) } else { stop.min((b - 1) * w) - base };
-        match tokenize_until(buf, p - base, pd, rd, local, &mut Shifted { out, base }) {
+        match tokenize_until(buf, p - base, pd, rd, local, &mut Shifted { out, base, strings }) {
             Ok(Stop::End(e)) => return Some(Stop::End(base + e)),
             Ok(Stop::At(q)) if base + q >= stop => return Some(Stop::At(base + q)),
             Ok(Stop::At(q)) => p = base + q,
@@ -426,23 +434,29 @@ fn tokenize_window(
 /// or number, or just before a delimiter, is detected). Otherwise the record is read in
 /// one piece, so the result is always the sequential one. With one thread the record is
 /// read in one piece (the copy of the chunks' tokens would buy nothing).
-pub(crate) fn tokenize_record(rec: &RecordLines, pd: u8, rd: u8) -> Result<(Vec<Raw>, Option<Vec<u8>>), LexError> {
+pub(crate) fn tokenize_record(rec: &RecordLines, pd: u8, rd: u8) -> Result<Record, LexError> {
     let chunk = if rayon::current_num_threads() > 1 { CHUNK } else { usize::MAX };
-    chunked(rec, pd, rd, chunk).map(|(t, text, _)| (t, text))
+    chunked(rec, pd, rd, chunk).map(|(r, _)| r)
 }
 
-/// What [`chunked`] read: tokens, the text if it was built, whether the parallel cut
-/// was used.
-type Read = (Vec<Raw>, Option<Vec<u8>>, bool);
+/// A record as read.
+pub(crate) struct Record {
+    pub tokens: Vec<Raw>,
+    /// Its text, if it had to be built.
+    pub text: Option<Vec<u8>>,
+    /// Whether a parameter is a string.
+    pub strings: bool,
+}
 
 /// [`tokenize_record`], and whether the parallel cut was used.
-fn chunked(rec: &RecordLines, pd: u8, rd: u8, chunk: usize) -> Result<Read, LexError> {
+fn chunked(rec: &RecordLines, pd: u8, rd: u8, chunk: usize) -> Result<(Record, bool), LexError> {
     let (n_lines, w) = (rec.lines.len(), rec.width);
-    let whole = |out: &mut Vec<Raw>| -> Result<Read, LexError> {
+    let whole = |out: &mut Vec<Raw>| -> Result<(Record, bool), LexError> {
         let text = rec.text();
         out.clear();
         tokenize(&text, 0, pd, rd, out)?;
-        Ok((std::mem::take(out), Some(text), false))
+        let strings = out.iter().any(|t| matches!(t, Raw::Text { .. }));
+        Ok((Record { tokens: std::mem::take(out), text: Some(text), strings }, false))
     };
     if n_lines <= WINDOW {
         return whole(&mut Vec::with_capacity(n_lines * w / 8 + 16));
@@ -453,7 +467,7 @@ fn chunked(rec: &RecordLines, pd: u8, rd: u8, chunk: usize) -> Result<Read, LexE
     if n >= 2 && fast {
         let cuts: Vec<usize> = (0..=n).map(|k| if k == n { n_lines } else { k * chunk / w }).collect();
         use rayon::prelude::*;
-        let parts: Vec<Option<(Vec<Raw>, Stop)>> = (0..n)
+        let parts: Vec<Option<(Vec<Raw>, Stop, bool)>> = (0..n)
             .into_par_iter()
             .map(|k| {
                 // The first chunk's vector receives the others' tokens (only they are
@@ -462,14 +476,17 @@ fn chunked(rec: &RecordLines, pd: u8, rd: u8, chunk: usize) -> Result<Read, LexE
                 let mut out: Vec<Raw> = Vec::with_capacity(lines * w / 8 + 16);
                 let mut buf = Vec::with_capacity(WINDOW * w);
                 let stop = if k + 1 == n { usize::MAX } else { cuts[k + 1] * w };
-                tokenize_window(rec, cuts[k] * w, stop, pd, rd, &mut buf, &mut out).map(|s| (out, s))
+                let mut strings = false;
+                tokenize_window(rec, cuts[k] * w, stop, pd, rd, &mut buf, &mut out, &mut strings)
+                    .map(|s| (out, s, strings))
             })
             .collect();
         let total: usize = parts.iter().flatten().map(|p| p.0.len()).sum();
         let mut tokens = Vec::new();
+        let mut strings = false;
         let mut ok = true;
         for (k, part) in parts.into_iter().enumerate() {
-            let Some((toks, stop)) = part else {
+            let Some((toks, stop, s)) = part else {
                 ok = false;
                 break;
             };
@@ -482,6 +499,7 @@ fn chunked(rec: &RecordLines, pd: u8, rd: u8, chunk: usize) -> Result<Read, LexE
                 ok = false;
                 break;
             }
+            strings |= s;
             if k == 0 {
                 tokens = toks;
                 tokens.reserve(total - tokens.len());
@@ -490,13 +508,14 @@ fn chunked(rec: &RecordLines, pd: u8, rd: u8, chunk: usize) -> Result<Read, LexE
             }
         }
         if ok {
-            return Ok((tokens, None, true));
+            return Ok((Record { tokens, text: None, strings }, true));
         }
     }
     let mut out: Vec<Raw> = Vec::with_capacity(len / 8 + 16);
     let mut buf = Vec::with_capacity(WINDOW * w);
-    if let Some(Stop::End(_)) = tokenize_window(rec, 0, usize::MAX, pd, rd, &mut buf, &mut out) {
-        return Ok((out, None, false));
+    let mut strings = false;
+    if let Some(Stop::End(_)) = tokenize_window(rec, 0, usize::MAX, pd, rd, &mut buf, &mut out, &mut strings) {
+        return Ok((Record { tokens: out, text: None, strings }, false));
     }
     whole(&mut out)
 }
@@ -702,11 +721,14 @@ mod tests {
             tokenize(rec.as_bytes(), 0, b',', b';', &mut seq).unwrap();
             let lines = lines_of(rec.as_bytes());
             let lines = RecordLines { bytes: rec.as_bytes(), lines: &lines, width: 64 };
-            let (par, _, parallel) = chunked(&lines, b',', b';', TEST_CHUNK).unwrap();
-            proptest::prop_assert!(seq == par);
+            let has_strings = seq.iter().any(|t| matches!(t, Raw::Text { .. }));
+            let (par, parallel) = chunked(&lines, b',', b';', TEST_CHUNK).unwrap();
+            proptest::prop_assert!(seq == par.tokens);
+            proptest::prop_assert_eq!(par.strings, has_strings);
             // Through windows on one thread: the same tokens.
-            let (windowed, _, _) = chunked(&lines, b',', b';', usize::MAX).unwrap();
-            proptest::prop_assert!(seq == windowed);
+            let (windowed, _) = chunked(&lines, b',', b';', usize::MAX).unwrap();
+            proptest::prop_assert!(seq == windowed.tokens);
+            proptest::prop_assert_eq!(windowed.strings, has_strings);
             if strings == 0 {
                 // Without strings every cut falls on a line start before a parameter.
                 proptest::prop_assert!(parallel);

@@ -368,7 +368,8 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
         }
         let p_line = p0 + p_first + 1;
         let map = |off: usize| pos('P', p_line + off / P_WIDTH, off % P_WIDTH + 1, Some(id.0));
-        let (tokens, text) = lexer::tokenize_record(&rec, pd, rd).map_err(|e| lex_position(&e, &map))?;
+        let lexer::Record { tokens, text, strings } =
+            lexer::tokenize_record(&rec, pd, rd).map_err(|e| lex_position(&e, &map))?;
         if tokens.first().copied() != Some(Raw::Integer(i64::from(dir.entity_type))) {
             return Err(Error::Mismatch {
                 at: map(0),
@@ -386,6 +387,7 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
             directory: dir,
             text,
             tokens,
+            strings,
             delimiters: (pd, rd),
             p_first,
             p_count,
