@@ -157,10 +157,10 @@ const POW10_U64: [u64; 9] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000, 10_0
 
 /// Accumulates the digits from `i` into `m`; returns the end. Eight bytes are read at a
 /// time: the run of leading digits among them is found from a mask (no per-digit
-/// branch) and its value added in one SWAR step. `count` becomes `usize::MAX` past 19
-/// digits (where `m` could overflow).
+/// branch) and its value added in one SWAR step. The arithmetic wraps past 19 digits;
+/// callers count the digits from the offsets and reject such runs.
 #[inline(always)]
-fn digits(text: &[u8], mut i: usize, m: &mut u64, count: &mut usize) -> usize {
+fn digits(text: &[u8], mut i: usize, m: &mut u64) -> usize {
     while let Some(chunk) = text.get(i..).and_then(|t| t.first_chunk::<8>()) {
         // Digits become 0–9; any other byte has its high bit set in `nd`.
         let x = u64::from_le_bytes(*chunk) ^ 0x3030_3030_3030_3030;
@@ -169,25 +169,15 @@ fn digits(text: &[u8], mut i: usize, m: &mut u64, count: &mut usize) -> usize {
         if n == 0 {
             return i;
         }
-        if *count + n > 19 {
-            *count = usize::MAX;
-            return i;
-        }
         // The first n bytes moved to the top: leading zeros below them.
-        *m = *m * POW10_U64[n] + eight_digit_value(x << (8 * (8 - n)));
-        *count += n;
+        *m = m.wrapping_mul(POW10_U64[n]).wrapping_add(eight_digit_value(x << (8 * (8 - n))));
         i += n;
         if n < 8 {
             return i;
         }
     }
     while i < text.len() && text[i].is_ascii_digit() {
-        if *count >= 19 {
-            *count = usize::MAX;
-            return i;
-        }
-        *m = *m * 10 + u64::from(text[i] - b'0');
-        *count += 1;
+        *m = m.wrapping_mul(10).wrapping_add(u64::from(text[i] - b'0'));
         i += 1;
     }
     i
@@ -202,46 +192,40 @@ fn digits(text: &[u8], mut i: usize, m: &mut u64, count: &mut usize) -> usize {
 fn scan(text: &[u8], start: usize) -> Scan {
     let len = text.len();
     let mut i = start;
-    let neg = match text.get(i) {
-        Some(b'-') => {
-            i += 1;
-            true
-        }
-        Some(b'+') => {
-            i += 1;
-            false
-        }
-        _ => false,
-    };
+    let first = text.get(i).copied();
+    let neg = first == Some(b'-');
+    if neg || first == Some(b'+') {
+        i += 1;
+    }
     let signed = i > start;
     let mut m: u64 = 0;
-    let mut count = 0usize;
-    i = digits(text, i, &mut m, &mut count);
-    if count == usize::MAX {
-        return Scan::Slow;
-    }
+    let d0 = i;
+    i = digits(text, i, &mut m);
     let integer_end = i;
-    let int_digits = count;
-    if i < len && (text[i] == b'H' || text[i] == b'h') {
-        if count > 0 && !signed {
+    let int_digits = i - d0;
+    // The byte after the digits (0 at the end); `| 0x20` folds the letters' cases.
+    let mut c = text.get(i).copied().unwrap_or(0);
+    if c | 0x20 == b'h' {
+        if int_digits > 0 && int_digits <= 19 && !signed {
             return Scan::Hollerith(m as usize, i + 1);
         }
         return Scan::Slow;
     }
     let mut real = false;
-    let mut scale: i32 = 0;
-    if i < len && text[i] == b'.' {
+    let mut frac = 0;
+    if c == b'.' {
         real = true;
-        i = digits(text, i + 1, &mut m, &mut count);
-        if count == usize::MAX {
-            return Scan::Slow;
-        }
-        scale = -((count - int_digits) as i32);
+        let f0 = i + 1;
+        i = digits(text, f0, &mut m);
+        frac = i - f0;
+        c = text.get(i).copied().unwrap_or(0);
     }
-    if count == 0 {
+    let count = int_digits + frac;
+    if count == 0 || count > 19 {
         return Scan::Slow;
     }
-    if i < len && matches!(text[i], b'E' | b'e' | b'D' | b'd') {
+    let mut scale = -(frac as i32);
+    if c | 0x20 == b'e' || c | 0x20 == b'd' {
         real = true;
         i += 1;
         let eneg = match text.get(i) {
@@ -768,6 +752,14 @@ mod tests {
         assert_eq!(parse_number(b"+12"), Some(Raw::Integer(12)));
         assert_eq!(parse_number(b"-3"), Some(Raw::Integer(-3)));
         assert_eq!(parse_number(b"99999999999999999999"), Some(Raw::Real(1e20)));
+        // Past 19 digits the one-pass scan's sum wraps; the full parser decides.
+        for long in ["123456789012345678901234567890", "0.1234567890123456789012345", "-98765432109876543210.5e-3"] {
+            let want: f64 = long.parse().unwrap();
+            assert_eq!(parse_number(long.as_bytes()), Some(Raw::Real(want)), "{long}");
+        }
+        assert_eq!(parse_number(b"1234567890123456789"), Some(Raw::Integer(1_234_567_890_123_456_789)));
+        assert_eq!(parse_number(b"2.5d-1"), Some(Raw::Real(0.25)));
+        assert_eq!(parse_number(b"2.5e+1"), Some(Raw::Real(25.0)));
         for bad in [&b"inf"[..], b"NaN", b".", b"1.2.3", b"E5", b"1E", b"--1", b"0x10"] {
             assert_eq!(parse_number(bad), None, "{}", String::from_utf8_lossy(bad));
         }
@@ -785,6 +777,13 @@ mod tests {
         let mut out: Vec<Token> = Vec::new();
         tokenize(b"1/2.5/3HA/B!junk", 0, b'/', b'!', &mut out).unwrap();
         assert_eq!(out.len(), 3);
+        // Lower-case h, and counts too long for the one-pass scan.
+        assert_eq!(values("2hab,;")[0], Raw::Text { start: 2, len: 2 });
+        let mut out: Vec<Token> = Vec::new();
+        assert!(matches!(
+            tokenize(b"99999999999999999999Hx;", 0, b',', b';', &mut out),
+            Err(LexError::Hollerith { offset: 0, .. })
+        ));
     }
 
     #[test]
