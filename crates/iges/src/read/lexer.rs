@@ -200,7 +200,14 @@ fn scan(text: &[u8], start: usize) -> Scan {
     let signed = i > start;
     let mut m: u64 = 0;
     let d0 = i;
-    i = digits(text, i, &mut m);
+    // The integer part has a digit or two in most reals: byte by byte until 3 digits.
+    while i < d0 + 3 && i < len && text[i].is_ascii_digit() {
+        m = m * 10 + u64::from(text[i] - b'0');
+        i += 1;
+    }
+    if i == d0 + 3 {
+        i = digits(text, i, &mut m);
+    }
     let integer_end = i;
     let int_digits = i - d0;
     // The byte after the digits (0 at the end); `| 0x20` folds the letters' cases.
