@@ -175,6 +175,15 @@ fn digits(text: &[u8], mut i: usize, m: &mut u64) -> usize {
         if n < 8 {
             return i;
         }
+        // A run of 8: mantissas of 9 or 10 digits end within a few more bytes.
+        let end = i + 3;
+        while i < end && i < text.len() && text[i].is_ascii_digit() {
+            *m = m.wrapping_mul(10).wrapping_add(u64::from(text[i] - b'0'));
+            i += 1;
+        }
+        if i < end {
+            return i;
+        }
     }
     while i < text.len() && text[i].is_ascii_digit() {
         *m = m.wrapping_mul(10).wrapping_add(u64::from(text[i] - b'0'));
