@@ -34,10 +34,19 @@ fn split_lines(src: &[u8]) -> Vec<Line> {
     }
     let mut s = 0;
     if !has_cr {
-        // LF only: the common case, found with memchr.
-        for i in memchr::memchr_iter(b'\n', src) {
-            lines.push(Line { start: s, end: i, next: i + 1 });
-            s = i + 1;
+        // LF only: the common case. Lines of 80 columns are taken at a glance (the 80
+        // bytes checked to hold no line feed, 8 at a time), others found with memchr.
+        while s < src.len() {
+            if let Some(line) = src.get(s..s + 81).and_then(|l| l.first_chunk::<81>()) {
+                if line[80] == b'\n' && !has_line_feed(line) {
+                    lines.push(Line { start: s, end: s + 80, next: s + 81 });
+                    s += 81;
+                    continue;
+                }
+            }
+            let Some(k) = memchr::memchr(b'\n', &src[s..]) else { break };
+            lines.push(Line { start: s, end: s + k, next: s + k + 1 });
+            s += k + 1;
         }
     } else {
         let mut i = 0;
@@ -61,6 +70,17 @@ fn split_lines(src: &[u8]) -> Vec<Line> {
         lines.push(Line { start: s, end: src.len(), next: src.len() });
     }
     lines
+}
+
+/// Whether the first 80 bytes of `line` hold a line feed.
+fn has_line_feed(line: &[u8; 81]) -> bool {
+    let mut any = 0u64;
+    for c in line[..80].chunks_exact(8) {
+        let x = u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]) ^ 0x0A0A_0A0A_0A0A_0A0A;
+        // High bit of each zero byte (exact: no borrow between bytes).
+        any |= !(((x & 0x7F7F_7F7F_7F7F_7F7F) + 0x7F7F_7F7F_7F7F_7F7F) | x) & 0x8080_8080_8080_8080;
+    }
+    any != 0
 }
 
 fn is_blank_line(b: &[u8]) -> bool {
@@ -472,5 +492,23 @@ mod tests {
         let l = split_lines(b"a\r\nb\nc\rd");
         let spans: Vec<_> = l.iter().map(|l| (l.start, l.end, l.next)).collect();
         assert_eq!(spans, vec![(0, 1, 3), (3, 4, 5), (5, 6, 7), (7, 8, 8)]);
+    }
+
+    #[test]
+    fn eighty_column_lines_and_others() {
+        // 80-column lines (taken at a glance), a short one, a long one, a line feed
+        // inside what would be an 80-column line, no final line feed.
+        let mut src = Vec::new();
+        let mut want = Vec::new();
+        for len in [80usize, 80, 12, 95, 80, 30, 49, 80, 0, 80, 7] {
+            let s = src.len();
+            src.extend(std::iter::repeat_n(b'x', len));
+            want.push((s, s + len, s + len + 1));
+            src.push(b'\n');
+        }
+        src.extend_from_slice(b"tail");
+        want.push((src.len() - 4, src.len(), src.len()));
+        let got: Vec<_> = split_lines(&src).iter().map(|l| (l.start, l.end, l.next)).collect();
+        assert_eq!(got, want);
     }
 }
