@@ -776,6 +776,10 @@ mod tests {
         assert_eq!(parse_number(b"1234567890123456789"), Some(Raw::Integer(1_234_567_890_123_456_789)));
         assert_eq!(parse_number(b"2.5d-1"), Some(Raw::Real(0.25)));
         assert_eq!(parse_number(b"2.5e+1"), Some(Raw::Real(25.0)));
+        // Exponents beyond the exact powers: the full parser.
+        assert_eq!(parse_number(b"1.5E-30"), Some(Raw::Real(1.5e-30)));
+        assert_eq!(parse_number(b"1.5E30"), Some(Raw::Real(1.5e30)));
+        assert_eq!(parse_number(b"15E-23"), Some(Raw::Real(15e-23)));
         for bad in [&b"inf"[..], b"NaN", b".", b"1.2.3", b"E5", b"1E", b"--1", b"0x10"] {
             assert_eq!(parse_number(bad), None, "{}", String::from_utf8_lossy(bad));
         }
