@@ -3,8 +3,11 @@
 # OCCT 7.6 C++ (IGESControl_Reader ReadFile + TransferRoots) on the same generated files,
 # in one run, alternating the two programs so that machine load hits both alike.
 #
-#   bash benches/iges_vs_occt.sh [--repeat N] [--rounds R] [--keep DIR]
+#   bash benches/iges_vs_occt.sh [--repeat N] [--rounds R] [--keep DIR] [--threads T]
 #
+# cadmorph reads records in parallel (rayon, all cores by default); --threads 1 gives its
+# single-threaded figure (RAYON_NUM_THREADS for the cadmorph side only; OCCT's reader is
+# single-threaded either way).
 # Files (written by crates/iges/examples/iges_bench.rs, the generator of the criterion
 # bench crates/iges/benches/parse.rs): hull3_200x150.igs, 3 trimmed bicubic patches of
 # 200 x 150 poles (~5.6 MB, metres), and faces300.igs, 300 trimmed bicubic 8 x 8 faces.
@@ -17,11 +20,13 @@ root="$(cd "$here/.." && pwd)"
 repeat=5
 rounds=3
 keep=""
+threads=""
 while [ $# -gt 0 ]; do
     case "$1" in
         --repeat) repeat="$2"; shift 2 ;;
         --rounds) rounds="$2"; shift 2 ;;
         --keep) keep="$2"; shift 2 ;;
+        --threads) threads="$2"; shift 2 ;;
         *) echo "unknown argument $1" >&2; exit 2 ;;
     esac
 done
@@ -42,8 +47,9 @@ trap 'rm -f "$out"; [ -z "$keep" ] && rm -rf "$dir"' EXIT
 files=("$dir/hull3_200x150.igs" "$dir/faces300.igs")
 for r in $(seq "$rounds"); do
     "$occt" --repeat "$repeat" "${files[@]}" | grep "^{" | sed "s/^/occt /" | tee -a "$out"
-    "$ours" --repeat "$repeat" "${files[@]}" | sed 's/^/cadmorph /' | tee -a "$out"
+    env ${threads:+RAYON_NUM_THREADS="$threads"} "$ours" --repeat "$repeat" "${files[@]}" | sed 's/^/cadmorph /' | tee -a "$out"
 done
+echo "cadmorph threads: ${threads:-all ($(nproc) cores)};$(uptime | sed 's/.*,  *load/ load/')"
 python3 - "$out" <<'PY'
 import json, os, sys
 rows = {}

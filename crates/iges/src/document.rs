@@ -3,6 +3,7 @@
 
 use std::collections::BTreeMap;
 use std::fmt;
+use std::sync::{Arc, OnceLock};
 
 use crate::error::{Error, Position, Result};
 use crate::global::Global;
@@ -140,9 +141,11 @@ pub struct Entity {
     pub(crate) id: EntityId,
     pub(crate) directory: Directory,
     /// The record text: columns 1–64 of its parameter lines, concatenated.
-    pub(crate) text: Vec<u8>,
+    pub(crate) text: RecordText,
     /// Parameters, the entity type first.
     pub(crate) tokens: Vec<Raw>,
+    /// Whether a parameter is a string (else slices of numbers need no check for one).
+    pub(crate) strings: bool,
     /// The file's delimiters (to recompute token offsets for error positions).
     pub(crate) delimiters: (u8, u8),
     /// Index of its first line in the P section (0-based) and line count, as read.
@@ -193,7 +196,7 @@ impl Entity {
     }
     /// The parameter record text (columns 1–64 of its lines, concatenated).
     pub fn record_text(&self) -> &[u8] {
-        &self.text
+        self.text.get()
     }
     /// Whether an edit rewrote its parameter record.
     pub fn is_rewritten(&self) -> bool {
@@ -207,15 +210,16 @@ impl Entity {
             Raw::Real(x) => Param::Real(x),
             Raw::Text { start, len } => {
                 let (s, l) = (start as usize, len as usize);
-                Param::Text(self.text.get(s..s + l).unwrap_or(&[]))
+                Param::Text(self.text.get().get(s..s + l).unwrap_or(&[]))
             }
         }
     }
 
     /// The file position of parameter `i` (or of the record's end when `i` is past it).
     pub fn position(&self, i: usize) -> Position {
-        let offsets = crate::read::lexer::offsets(&self.text, self.delimiters.0, self.delimiters.1);
-        let off = offsets.get(i).copied().unwrap_or(self.text.len());
+        let text = self.text.get();
+        let offsets = crate::read::lexer::offsets(text, self.delimiters.0, self.delimiters.1);
+        let off = offsets.get(i).copied().unwrap_or(text.len());
         self.offset_position(off)
     }
 
@@ -228,6 +232,59 @@ impl Entity {
 
     pub(crate) fn directory_position(&self, column: usize) -> Position {
         Position { section: 'D', line: self.d_line, column, entity: Some(self.id.0) }
+    }
+}
+
+/// The input bytes and their lines, shared by the document and its entities (whose
+/// record texts are built from them when first asked for).
+#[derive(Debug)]
+pub(crate) struct Source {
+    pub bytes: Vec<u8>,
+    pub lines: Vec<Line>,
+}
+
+impl Source {
+    /// Columns 1–`width` of lines `range`, concatenated.
+    pub fn columns(&self, range: std::ops::Range<usize>, width: usize) -> Vec<u8> {
+        let mut text = Vec::with_capacity(range.len() * width);
+        for l in &self.lines[range] {
+            text.extend_from_slice(&self.bytes[l.start..l.start + width]);
+        }
+        text
+    }
+}
+
+/// A record's text: given (edited records, short records read whole), or built from the
+/// input's lines on first use (long records are tokenized through a small window and
+/// their text is not kept unless asked for).
+#[derive(Clone)]
+pub(crate) struct RecordText {
+    text: OnceLock<Vec<u8>>,
+    /// The input and the record's line range in it (columns 1–64 of each line).
+    lines: Option<(Arc<Source>, std::ops::Range<usize>)>,
+}
+
+impl RecordText {
+    /// A text held from the start.
+    pub fn owned(text: Vec<u8>) -> Self {
+        RecordText { text: OnceLock::from(text), lines: None }
+    }
+    /// The text of `lines` of `source`, built when first asked for.
+    pub fn lazy(source: Arc<Source>, lines: std::ops::Range<usize>) -> Self {
+        RecordText { text: OnceLock::new(), lines: Some((source, lines)) }
+    }
+    /// The text.
+    pub fn get(&self) -> &[u8] {
+        self.text.get_or_init(|| match &self.lines {
+            Some((source, range)) => source.columns(range.clone(), crate::read::P_WIDTH),
+            None => Vec::new(),
+        })
+    }
+}
+
+impl fmt::Debug for RecordText {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Debug::fmt(&String::from_utf8_lossy(self.get()), f)
     }
 }
 
@@ -272,8 +329,7 @@ pub(crate) enum PBlock {
 /// ```
 #[derive(Debug, Clone)]
 pub struct Document {
-    pub(crate) source: Vec<u8>,
-    pub(crate) lines: Vec<Line>,
+    pub(crate) src: Arc<Source>,
     pub(crate) layout: Layout,
     pub(crate) global: Global,
     pub(crate) entities: Vec<Entity>,
@@ -415,19 +471,19 @@ impl Document {
 
     /// Line terminator of the file (that of its first line), used for new lines.
     pub(crate) fn eol(&self) -> &[u8] {
-        match self.lines.first() {
-            Some(l) if l.next > l.end => &self.source[l.end..l.next],
+        match self.src.lines.first() {
+            Some(l) if l.next > l.end => &self.src.bytes[l.end..l.next],
             _ => b"\n",
         }
     }
 
     pub(crate) fn line_bytes(&self, k: usize) -> &[u8] {
-        let l = self.lines[k];
-        &self.source[l.start..l.end]
+        let l = self.src.lines[k];
+        &self.src.bytes[l.start..l.end]
     }
 
     pub(crate) fn line_with_eol(&self, k: usize) -> &[u8] {
-        let l = self.lines[k];
-        &self.source[l.start..l.next]
+        let l = self.src.lines[k];
+        &self.src.bytes[l.start..l.next]
     }
 }

@@ -123,7 +123,8 @@ impl Document {
             }
             e.directory_changed = true;
         }
-        e.text = text;
+        e.text = crate::document::RecordText::owned(text);
+        e.strings = tokens.iter().any(|t| matches!(t, Raw::Text { .. }));
         e.tokens = tokens;
         e.new_lines = Some(lines);
         e.p_line = 0;

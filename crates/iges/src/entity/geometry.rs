@@ -499,14 +499,15 @@ impl BSplineSurface {
             Raw::Integer(i) => i as f64,
             _ => 0.0,
         };
-        // File order: u index fastest. Cadmorph order: i * n_v + j.
-        let mut points = Vec::with_capacity(n);
-        let mut w = Vec::with_capacity(n);
-        for i in 0..n_u {
-            for j in 0..n_v {
+        // File order: u index fastest. Cadmorph order: i * n_v + j. The tokens are read in
+        // file order (strided reads missed the cache on large patches), the poles placed.
+        let mut points = vec![Point3::origin(); n];
+        let mut w = vec![0.0; n];
+        for j in 0..n_v {
+            for i in 0..n_u {
                 let f = j * n_u + i;
-                points.push(Point3::new(real(&xyz[3 * f]), real(&xyz[3 * f + 1]), real(&xyz[3 * f + 2])));
-                w.push(real(&wf[f]));
+                points[i * n_v + j] = Point3::new(real(&xyz[3 * f]), real(&xyz[3 * f + 1]), real(&xyz[3 * f + 2]));
+                w[i * n_v + j] = real(&wf[f]);
             }
         }
         let polynomial = props[2] == 1 || w.iter().all(|&x| x == w[0]);

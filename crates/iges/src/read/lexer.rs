@@ -9,6 +9,8 @@ use nom::character::complete::{char, digit0, digit1, one_of};
 use nom::combinator::opt;
 use nom::{IResult, Parser};
 
+use crate::document::Line;
+
 /// One parameter value as stored: strings as byte ranges into the record text.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum Raw {
@@ -86,105 +88,15 @@ const POW10: [f64; 23] = [
     1e21, 1e22,
 ];
 
-/// The common case in one pass: at most 15 significant digits and a decimal exponent of
-/// at most 22, where `m · 10^e` or `m / 10^e` with `m` and `10^e` exact in an f64 is the
-/// correctly rounded value (Clinger's fast path), so the result equals `str::parse`'s.
-/// `None` sends the token to the full grammar and parser.
-#[inline]
-fn fast_number(s: &[u8]) -> Option<Raw> {
-    let mut i = 0;
-    let neg = match s.first() {
-        Some(b'-') => {
-            i = 1;
-            true
-        }
-        Some(b'+') => {
-            i = 1;
-            false
-        }
-        _ => false,
-    };
-    let mut m: u64 = 0;
-    let mut digits = 0usize;
-    let mut significant = 0usize;
-    let mut scale: i32 = 0;
-    while i < s.len() && s[i].is_ascii_digit() {
-        m = m * 10 + u64::from(s[i] - b'0');
-        if m != 0 {
-            significant += 1;
-        }
-        digits += 1;
-        i += 1;
-        if digits > 18 {
-            return None;
-        }
-    }
-    if i == s.len() {
-        if digits == 0 {
-            return None;
-        }
-        let v = m as i64;
-        return Some(Raw::Integer(if neg { -v } else { v }));
-    }
-    if s[i] == b'.' {
-        i += 1;
-        while i < s.len() && s[i].is_ascii_digit() {
-            m = m * 10 + u64::from(s[i] - b'0');
-            if m != 0 {
-                significant += 1;
-            }
-            digits += 1;
-            scale -= 1;
-            i += 1;
-            if digits > 18 {
-                return None;
-            }
-        }
-    }
-    if digits == 0 || significant > 15 {
-        return None;
-    }
-    if i < s.len() {
-        if !matches!(s[i], b'E' | b'e' | b'D' | b'd') {
-            return None;
-        }
-        i += 1;
-        let eneg = match s.get(i) {
-            Some(b'-') => {
-                i += 1;
-                true
-            }
-            Some(b'+') => {
-                i += 1;
-                false
-            }
-            _ => false,
-        };
-        let start = i;
-        let mut e: i32 = 0;
-        while i < s.len() && s[i].is_ascii_digit() && i - start < 4 {
-            e = e * 10 + i32::from(s[i] - b'0');
-            i += 1;
-        }
-        if i == start || i != s.len() {
-            return None;
-        }
-        scale += if eneg { -e } else { e };
-    }
-    let x = m as f64;
-    let v = match scale {
-        0 => x,
-        1..=22 => x * POW10[scale as usize],
-        -22..=-1 => x / POW10[(-scale) as usize],
-        _ => return None,
-    };
-    Some(Raw::Real(if neg { -v } else { v }))
-}
-
 /// Parses one number token (no blanks inside).
+///
+/// The common forms go through the tokenizer's one-pass [`scan`]; the rest (long
+/// mantissas, large exponents) through the full grammar and `str::parse`.
 pub(crate) fn parse_number(s: &[u8]) -> Option<Raw> {
-    if let Some(r) = fast_number(s) {
-        return Some(r);
+    if let Scan::Value(raw, end) = scan(s, 0) {
+        if end == s.len() {
+            return Some(raw);
+        }
     }
     let (rest, (digits, dot, exp)) = number(s).ok()?;
     if !rest.is_empty() || digits == 0 {
@@ -231,45 +143,50 @@ enum Scan {
     Slow,
 }
 
-/// Whether the 8 bytes of `v` (little-endian) are all ASCII digits.
-#[inline]
-fn eight_digits(v: u64) -> bool {
-    (v & 0xF0F0_F0F0_F0F0_F0F0) | (((v.wrapping_add(0x0606_0606_0606_0606)) & 0xF0F0_F0F0_F0F0_F0F0) >> 4)
-        == 0x3333_3333_3333_3333
-}
-
-/// The value of 8 ASCII digits read little-endian (SWAR: pairs, then quads, then all).
-#[inline]
+/// The value of 8 digits (each byte 0–9) read little-endian, the first byte most
+/// significant (SWAR: pairs, then quads, then all).
+#[inline(always)]
 fn eight_digit_value(v: u64) -> u64 {
     let v = (v & 0x0F0F_0F0F_0F0F_0F0F).wrapping_mul(2561) >> 8;
     let v = (v & 0x00FF_00FF_00FF_00FF).wrapping_mul(6_553_601) >> 16;
     (v & 0x0000_FFFF_0000_FFFF).wrapping_mul(42_949_672_960_001) >> 32
 }
 
-/// Accumulates the digits from `i` into `m`, 8 at a time where it can; returns the end.
-/// `count` becomes `usize::MAX` past 19 digits (where `m` could overflow).
-#[inline]
-fn digits(text: &[u8], mut i: usize, m: &mut u64, count: &mut usize) -> usize {
-    while let Some(chunk) = text.get(i..i + 8) {
-        let v = u64::from_le_bytes([chunk[0], chunk[1], chunk[2], chunk[3], chunk[4], chunk[5], chunk[6], chunk[7]]);
-        if !eight_digits(v) {
-            break;
-        }
-        if *count + 8 > 19 {
-            *count = usize::MAX;
+/// Powers of ten as integers, for appending a run of up to 8 digits.
+const POW10_U64: [u64; 9] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000, 10_000_000, 100_000_000];
+
+/// Accumulates the digits from `i` into `m`; returns the end. Eight bytes are read at a
+/// time: the run of leading digits among them is found from a mask (no per-digit
+/// branch) and its value added in one SWAR step. The arithmetic wraps past 19 digits;
+/// callers count the digits from the offsets and reject such runs.
+#[inline(always)]
+fn digits(text: &[u8], mut i: usize, m: &mut u64) -> usize {
+    while let Some(chunk) = text.get(i..).and_then(|t| t.first_chunk::<8>()) {
+        // Digits become 0–9; any other byte has its high bit set in `nd`.
+        let x = u64::from_le_bytes(*chunk) ^ 0x3030_3030_3030_3030;
+        let nd = (x.wrapping_add(0x7676_7676_7676_7676) | x) & 0x8080_8080_8080_8080;
+        let n = (nd.trailing_zeros() / 8) as usize;
+        if n == 0 {
             return i;
         }
-        *m = *m * 100_000_000 + eight_digit_value(v);
-        *count += 8;
-        i += 8;
+        // The first n bytes moved to the top: leading zeros below them.
+        *m = m.wrapping_mul(POW10_U64[n]).wrapping_add(eight_digit_value(x << (8 * (8 - n))));
+        i += n;
+        if n < 8 {
+            return i;
+        }
+        // A run of 8: mantissas of 9 or 10 digits end within a few more bytes.
+        let end = i + 3;
+        while i < end && i < text.len() && text[i].is_ascii_digit() {
+            *m = m.wrapping_mul(10).wrapping_add(u64::from(text[i] - b'0'));
+            i += 1;
+        }
+        if i < end {
+            return i;
+        }
     }
     while i < text.len() && text[i].is_ascii_digit() {
-        if *count >= 19 {
-            *count = usize::MAX;
-            return i;
-        }
-        *m = *m * 10 + u64::from(text[i] - b'0');
-        *count += 1;
+        *m = m.wrapping_mul(10).wrapping_add(u64::from(text[i] - b'0'));
         i += 1;
     }
     i
@@ -278,51 +195,53 @@ fn digits(text: &[u8], mut i: usize, m: &mut u64, count: &mut usize) -> usize {
 /// One pass over a parameter: an integer, a real whose digits make an integer of at most
 /// 2⁵³ with a decimal exponent within ±22 (Clinger's fast path: `m · 10^e` or `m / 10^e`
 /// with both exact is the correctly rounded value, so the result equals `str::parse`'s),
-/// or the count of a Hollerith string.
-#[inline]
+/// or the count of a Hollerith string. The one number scanner of the crate: the
+/// tokenizer (sequential and chunked) and [`parse_number`] both use it.
+#[inline(always)]
 fn scan(text: &[u8], start: usize) -> Scan {
     let len = text.len();
     let mut i = start;
-    let neg = match text.get(i) {
-        Some(b'-') => {
-            i += 1;
-            true
-        }
-        Some(b'+') => {
-            i += 1;
-            false
-        }
-        _ => false,
-    };
+    let first = text.get(i).copied();
+    let neg = first == Some(b'-');
+    if neg || first == Some(b'+') {
+        i += 1;
+    }
     let signed = i > start;
     let mut m: u64 = 0;
-    let mut count = 0usize;
-    i = digits(text, i, &mut m, &mut count);
-    if count == usize::MAX {
-        return Scan::Slow;
+    let d0 = i;
+    // The integer part has a digit or two in most reals: byte by byte until 3 digits.
+    while i < d0 + 3 && i < len && text[i].is_ascii_digit() {
+        m = m * 10 + u64::from(text[i] - b'0');
+        i += 1;
+    }
+    if i == d0 + 3 {
+        i = digits(text, i, &mut m);
     }
     let integer_end = i;
-    let int_digits = count;
-    if i < len && (text[i] == b'H' || text[i] == b'h') {
-        if count > 0 && !signed {
+    let int_digits = i - d0;
+    // The byte after the digits (0 at the end); `| 0x20` folds the letters' cases.
+    let mut c = text.get(i).copied().unwrap_or(0);
+    if c | 0x20 == b'h' {
+        if int_digits > 0 && int_digits <= 19 && !signed {
             return Scan::Hollerith(m as usize, i + 1);
         }
         return Scan::Slow;
     }
     let mut real = false;
-    let mut scale: i32 = 0;
-    if i < len && text[i] == b'.' {
+    let mut frac = 0;
+    if c == b'.' {
         real = true;
-        i = digits(text, i + 1, &mut m, &mut count);
-        if count == usize::MAX {
-            return Scan::Slow;
-        }
-        scale = -((count - int_digits) as i32);
+        let f0 = i + 1;
+        i = digits(text, f0, &mut m);
+        frac = i - f0;
+        c = text.get(i).copied().unwrap_or(0);
     }
-    if count == 0 {
+    let count = int_digits + frac;
+    if count == 0 || count > 19 {
         return Scan::Slow;
     }
-    if i < len && matches!(text[i], b'E' | b'e' | b'D' | b'd') {
+    let mut scale = -(frac as i32);
+    if c | 0x20 == b'e' || c | 0x20 == b'd' {
         real = true;
         i += 1;
         let eneg = match text.get(i) {
@@ -391,67 +310,214 @@ pub(crate) enum Stop {
     At(usize),
 }
 
-/// Records of at least two of these are split into chunks tokenized in parallel. Below
-/// that the second thread does not pay for the extra memory (the chunks' tokens are
-/// copied into one vector, and fresh pages cost as much as the scan).
-const CHUNK: usize = 1 << 21;
+/// Records of at least two of these (bytes) are split into chunks tokenized in parallel
+/// (with the records themselves read in parallel, chunks of this size keep both cores
+/// busy on files of a few large surfaces; the chunks' tokens are copied into one vector,
+/// which smaller records do not repay).
+const CHUNK: usize = 1 << 18;
 
-/// The tokens of a whole record, in parallel for long records: the text is cut at line
-/// starts into chunks, each tokenized as if a parameter started there; the cut is
-/// accepted only if the chunk before it, read on, starts a parameter at exactly the same
-/// place (so a cut inside a string or number, or just before a delimiter, is detected).
-/// Otherwise the record is read in one piece, so the result is always the sequential one.
-pub(crate) fn tokenize_record(text: &[u8], pd: u8, rd: u8, width: usize) -> Result<Vec<Raw>, LexError> {
-    chunked(text, pd, rd, width, CHUNK).map(|(t, _)| t)
+/// Lines copied at a time into the window a long record is tokenized through (a few KiB,
+/// so the copy stays in the L1 cache and the record's text is never built whole).
+const WINDOW: usize = 64;
+
+/// A record as lines of the input: the data field of line `j` (its first `width` bytes,
+/// fewer only for a last, short line) holds the record text from offset `j * width`.
+#[derive(Clone, Copy)]
+pub(crate) struct RecordLines<'a> {
+    pub bytes: &'a [u8],
+    pub lines: &'a [Line],
+    pub width: usize,
+}
+
+impl RecordLines<'_> {
+    fn field(&self, j: usize) -> &[u8] {
+        let l = self.lines[j];
+        &self.bytes[l.start..(l.start + self.width).min(l.end)]
+    }
+
+    /// The fields of lines `range`, concatenated into `buf`.
+    fn copy(&self, range: std::ops::Range<usize>, buf: &mut Vec<u8>) {
+        buf.clear();
+        for j in range {
+            let f = self.field(j);
+            // P lines: 64 bytes, copied inline rather than by a call per line.
+            match f.first_chunk::<64>() {
+                Some(c) if f.len() == 64 => buf.extend_from_slice(c),
+                _ => buf.extend_from_slice(f),
+            }
+        }
+    }
+
+    /// The whole record text.
+    pub fn text(&self) -> Vec<u8> {
+        let mut text = Vec::with_capacity(self.lines.len() * self.width);
+        self.copy(0..self.lines.len(), &mut text);
+        text
+    }
+
+    /// The first offset at or after `q` that is not a blank (or the text's end).
+    fn skip_blanks(&self, mut q: usize) -> usize {
+        while q / self.width < self.lines.len()
+            && self.field(q / self.width).get(q % self.width).is_some_and(|&c| is_blank(c))
+        {
+            q += 1;
+        }
+        q
+    }
+}
+
+/// A sink that moves string offsets from a window to the whole record, and notes
+/// whether there were any.
+struct Shifted<'a> {
+    out: &'a mut Vec<Raw>,
+    base: usize,
+    strings: &'a mut bool,
+}
+
+impl Sink for Shifted<'_> {
+    #[inline]
+    fn put(&mut self, _offset: usize, raw: Raw) {
+        self.out.push(match raw {
+            Raw::Text { start, len } => {
+                *self.strings = true;
+                Raw::Text { start: (start as usize + self.base) as u32, len }
+            }
+            r => r,
+        });
+    }
+}
+
+/// [`tokenize_until`] on a record given as lines, from offset `from`, through windows of
+/// [`WINDOW`] lines: each window is tokenized up to the start of its last line, so every
+/// parameter read from it ends within it in a well-formed record, and the tokens are
+/// those the whole text gives. `None` when a window cannot decide (a parameter running
+/// past its end, or any error): then only the whole text can. `strings` is set if a
+/// string was read.
+#[allow(clippy::too_many_arguments)]
+fn tokenize_window(
+    rec: &RecordLines,
+    from: usize,
+    stop: usize,
+    pd: u8,
+    rd: u8,
+    buf: &mut Vec<u8>,
+    out: &mut Vec<Raw>,
+    strings: &mut bool,
+) -> Option<Stop> {
+    let (n, w) = (rec.lines.len(), rec.width);
+    let mut p = from;
+    loop {
+        let a = p / w;
+        if a >= n {
+            return None;
+        }
+        let b = (a + WINDOW).min(n);
+        rec.copy(a..b, buf);
+        let base = a * w;
+        let local = if b == n { stop.saturating_sub(base) } else { stop.min((b - 1) * w) - base };
+        match tokenize_until(buf, p - base, pd, rd, local, &mut Shifted { out, base, strings }) {
+            Ok(Stop::End(e)) => return Some(Stop::End(base + e)),
+            Ok(Stop::At(q)) if base + q >= stop => return Some(Stop::At(base + q)),
+            Ok(Stop::At(q)) => p = base + q,
+            Err(_) => return None,
+        }
+    }
+}
+
+/// The tokens of a whole record given as lines, and its text if it had to be built
+/// (short records, and records a window cannot read: long strings, numbers across a
+/// window's end, errors, whose positions are then those of the whole text).
+///
+/// Long records are read in parallel: the lines are cut into chunks, each tokenized as
+/// if a parameter started at its first line; a cut is accepted only if the chunk before
+/// it, read on, starts a parameter at exactly the same place (so a cut inside a string
+/// or number, or just before a delimiter, is detected). Otherwise the record is read in
+/// one piece, so the result is always the sequential one. With one thread the record is
+/// read in one piece (the copy of the chunks' tokens would buy nothing).
+pub(crate) fn tokenize_record(rec: &RecordLines, pd: u8, rd: u8) -> Result<Record, LexError> {
+    let chunk = if rayon::current_num_threads() > 1 { CHUNK } else { usize::MAX };
+    chunked(rec, pd, rd, chunk).map(|(r, _)| r)
+}
+
+/// A record as read.
+pub(crate) struct Record {
+    pub tokens: Vec<Raw>,
+    /// Its text, if it had to be built.
+    pub text: Option<Vec<u8>>,
+    /// Whether a parameter is a string.
+    pub strings: bool,
 }
 
 /// [`tokenize_record`], and whether the parallel cut was used.
-fn chunked(text: &[u8], pd: u8, rd: u8, width: usize, chunk: usize) -> Result<(Vec<Raw>, bool), LexError> {
-    let n = text.len() / chunk;
+fn chunked(rec: &RecordLines, pd: u8, rd: u8, chunk: usize) -> Result<(Record, bool), LexError> {
+    let (n_lines, w) = (rec.lines.len(), rec.width);
+    let whole = |out: &mut Vec<Raw>| -> Result<(Record, bool), LexError> {
+        let text = rec.text();
+        out.clear();
+        tokenize(&text, 0, pd, rd, out)?;
+        let strings = out.iter().any(|t| matches!(t, Raw::Text { .. }));
+        Ok((Record { tokens: std::mem::take(out), text: Some(text), strings }, false))
+    };
+    if n_lines <= WINDOW {
+        return whole(&mut Vec::with_capacity(n_lines * w / 8 + 16));
+    }
+    let len = n_lines * w;
+    let n = len / chunk;
     let fast = !numeric(pd) && !numeric(rd) && !is_blank(pd) && !is_blank(rd);
-    if n < 2 || !fast {
-        let mut out: Vec<Raw> = Vec::with_capacity(text.len() / 8 + 16);
-        tokenize(text, 0, pd, rd, &mut out)?;
-        return Ok((out, false));
-    }
-    let cuts: Vec<usize> = (0..=n).map(|k| if k == n { text.len() } else { k * chunk / width * width }).collect();
-    use rayon::prelude::*;
-    let parts: Vec<Option<(Vec<Raw>, Stop)>> = (0..n)
-        .into_par_iter()
-        .map(|k| {
-            let mut out: Vec<Raw> = Vec::with_capacity((cuts[k + 1] - cuts[k]) / 8 + 16);
-            let stop = if k + 1 == n { usize::MAX } else { cuts[k + 1] };
-            tokenize_until(text, cuts[k], pd, rd, stop, &mut out).ok().map(|s| (out, s))
-        })
-        .collect();
-    let mut tokens = Vec::with_capacity(parts.iter().flatten().map(|p| p.0.len()).sum());
-    let mut ok = true;
-    for (k, part) in parts.into_iter().enumerate() {
-        let Some((toks, stop)) = part else {
-            ok = false;
-            break;
-        };
-        let expected = if k + 1 == n {
-            matches!(stop, Stop::End(_))
-        } else {
-            let mut q = cuts[k + 1];
-            while q < text.len() && is_blank(text[q]) {
-                q += 1;
+    if n >= 2 && fast {
+        let cuts: Vec<usize> = (0..=n).map(|k| if k == n { n_lines } else { k * chunk / w }).collect();
+        use rayon::prelude::*;
+        let parts: Vec<Option<(Vec<Raw>, Stop, bool)>> = (0..n)
+            .into_par_iter()
+            .map(|k| {
+                // The first chunk's vector receives the others' tokens (only they are
+                // copied), so it is sized for the whole record.
+                let lines = if k == 0 { n_lines } else { cuts[k + 1] - cuts[k] };
+                let mut out: Vec<Raw> = Vec::with_capacity(lines * w / 8 + 16);
+                let mut buf = Vec::with_capacity(WINDOW * w);
+                let stop = if k + 1 == n { usize::MAX } else { cuts[k + 1] * w };
+                let mut strings = false;
+                tokenize_window(rec, cuts[k] * w, stop, pd, rd, &mut buf, &mut out, &mut strings)
+                    .map(|s| (out, s, strings))
+            })
+            .collect();
+        let total: usize = parts.iter().flatten().map(|p| p.0.len()).sum();
+        let mut tokens = Vec::new();
+        let mut strings = false;
+        let mut ok = true;
+        for (k, part) in parts.into_iter().enumerate() {
+            let Some((toks, stop, s)) = part else {
+                ok = false;
+                break;
+            };
+            let expected = if k + 1 == n {
+                matches!(stop, Stop::End(_))
+            } else {
+                stop == Stop::At(rec.skip_blanks(cuts[k + 1] * w))
+            };
+            if !expected {
+                ok = false;
+                break;
             }
-            stop == Stop::At(q)
-        };
-        if !expected {
-            ok = false;
-            break;
+            strings |= s;
+            if k == 0 {
+                tokens = toks;
+                tokens.reserve(total - tokens.len());
+            } else {
+                tokens.extend(toks);
+            }
         }
-        tokens.extend(toks);
+        if ok {
+            return Ok((Record { tokens, text: None, strings }, true));
+        }
     }
-    if ok {
-        return Ok((tokens, true));
+    let mut out: Vec<Raw> = Vec::with_capacity(len / 8 + 16);
+    let mut buf = Vec::with_capacity(WINDOW * w);
+    let mut strings = false;
+    if let Some(Stop::End(_)) = tokenize_window(rec, 0, usize::MAX, pd, rd, &mut buf, &mut out, &mut strings) {
+        return Ok((Record { tokens: out, text: None, strings }, false));
     }
-    let mut out: Vec<Raw> = Vec::with_capacity(text.len() / 8 + 16);
-    tokenize(text, 0, pd, rd, &mut out)?;
-    Ok((out, false))
+    whole(&mut out)
 }
 
 /// [`tokenize`], stopping at the first parameter that starts at or after `stop`.
@@ -466,6 +532,20 @@ pub(crate) fn tokenize_until<S: Sink>(
     let len = text.len();
     let fast = !numeric(pd) && !numeric(rd) && !is_blank(pd) && !is_blank(rd);
     loop {
+        if fast {
+            // The bulk of a record: a number directly followed by the parameter
+            // delimiter. Anything else (blanks, defaults, strings, the record end, long
+            // numbers) leaves this loop for the general steps below, which see the same
+            // text as if this loop had not run.
+            while pos < stop {
+                let Scan::Value(raw, end) = scan(text, pos) else { break };
+                if text.get(end) != Some(&pd) {
+                    break;
+                }
+                out.put(pos, raw);
+                pos = end + 1;
+            }
+        }
         while pos < len && is_blank(text[pos]) && text[pos] != pd && text[pos] != rd {
             pos += 1;
         }
@@ -603,6 +683,13 @@ mod tests {
     /// Chunk size of the chunking test (small, so records stay small).
     const TEST_CHUNK: usize = 1 << 14;
 
+    /// A text cut into 64-byte lines.
+    fn lines_of(text: &[u8]) -> Vec<Line> {
+        (0..text.len().div_ceil(64))
+            .map(|j| Line { start: 64 * j, end: (64 * j + 64).min(text.len()), next: (64 * j + 64).min(text.len()) })
+            .collect()
+    }
+
     proptest::proptest! {
         #![proptest_config(proptest::test_runner::Config { cases: 64, ..Default::default() })]
         /// Long records read in parallel chunks give exactly the sequential tokens, also
@@ -632,8 +719,16 @@ mod tests {
             rec.push_str(&format!("{line:64}"));
             let mut seq: Vec<Raw> = Vec::new();
             tokenize(rec.as_bytes(), 0, b',', b';', &mut seq).unwrap();
-            let (par, parallel) = chunked(rec.as_bytes(), b',', b';', 64, TEST_CHUNK).unwrap();
-            proptest::prop_assert!(seq == par);
+            let lines = lines_of(rec.as_bytes());
+            let lines = RecordLines { bytes: rec.as_bytes(), lines: &lines, width: 64 };
+            let has_strings = seq.iter().any(|t| matches!(t, Raw::Text { .. }));
+            let (par, parallel) = chunked(&lines, b',', b';', TEST_CHUNK).unwrap();
+            proptest::prop_assert!(seq == par.tokens);
+            proptest::prop_assert_eq!(par.strings, has_strings);
+            // Through windows on one thread: the same tokens.
+            let (windowed, _) = chunked(&lines, b',', b';', usize::MAX).unwrap();
+            proptest::prop_assert!(seq == windowed.tokens);
+            proptest::prop_assert_eq!(windowed.strings, has_strings);
             if strings == 0 {
                 // Without strings every cut falls on a line start before a parameter.
                 proptest::prop_assert!(parallel);
@@ -673,6 +768,18 @@ mod tests {
         assert_eq!(parse_number(b"+12"), Some(Raw::Integer(12)));
         assert_eq!(parse_number(b"-3"), Some(Raw::Integer(-3)));
         assert_eq!(parse_number(b"99999999999999999999"), Some(Raw::Real(1e20)));
+        // Past 19 digits the one-pass scan's sum wraps; the full parser decides.
+        for long in ["123456789012345678901234567890", "0.1234567890123456789012345", "-98765432109876543210.5e-3"] {
+            let want: f64 = long.parse().unwrap();
+            assert_eq!(parse_number(long.as_bytes()), Some(Raw::Real(want)), "{long}");
+        }
+        assert_eq!(parse_number(b"1234567890123456789"), Some(Raw::Integer(1_234_567_890_123_456_789)));
+        assert_eq!(parse_number(b"2.5d-1"), Some(Raw::Real(0.25)));
+        assert_eq!(parse_number(b"2.5e+1"), Some(Raw::Real(25.0)));
+        // Exponents beyond the exact powers: the full parser.
+        assert_eq!(parse_number(b"1.5E-30"), Some(Raw::Real(1.5e-30)));
+        assert_eq!(parse_number(b"1.5E30"), Some(Raw::Real(1.5e30)));
+        assert_eq!(parse_number(b"15E-23"), Some(Raw::Real(15e-23)));
         for bad in [&b"inf"[..], b"NaN", b".", b"1.2.3", b"E5", b"1E", b"--1", b"0x10"] {
             assert_eq!(parse_number(bad), None, "{}", String::from_utf8_lossy(bad));
         }
@@ -690,6 +797,13 @@ mod tests {
         let mut out: Vec<Token> = Vec::new();
         tokenize(b"1/2.5/3HA/B!junk", 0, b'/', b'!', &mut out).unwrap();
         assert_eq!(out.len(), 3);
+        // Lower-case h, and counts too long for the one-pass scan.
+        assert_eq!(values("2hab,;")[0], Raw::Text { start: 2, len: 2 });
+        let mut out: Vec<Token> = Vec::new();
+        assert!(matches!(
+            tokenize(b"99999999999999999999Hx;", 0, b',', b';', &mut out),
+            Err(LexError::Hollerith { offset: 0, .. })
+        ));
     }
 
     #[test]

@@ -2,7 +2,9 @@
 
 pub(crate) mod lexer;
 
-use crate::document::{Directory, Document, Entity, EntityId, Layout, Line, PBlock, Status};
+use std::sync::Arc;
+
+use crate::document::{Directory, Document, Entity, EntityId, Layout, Line, PBlock, RecordText, Source, Status};
 use crate::error::{snippet, Error, Position, Result};
 use crate::global::Global;
 use lexer::{hollerith_at, tokenize, LexError, Raw, Token};
@@ -32,10 +34,19 @@ fn split_lines(src: &[u8]) -> Vec<Line> {
     }
     let mut s = 0;
     if !has_cr {
-        // LF only: the common case, found with memchr.
-        for i in memchr::memchr_iter(b'\n', src) {
-            lines.push(Line { start: s, end: i, next: i + 1 });
-            s = i + 1;
+        // LF only: the common case. Lines of 80 columns are taken at a glance (the 80
+        // bytes checked to hold no line feed, 8 at a time), others found with memchr.
+        while s < src.len() {
+            if let Some(line) = src.get(s..s + 81).and_then(|l| l.first_chunk::<81>()) {
+                if line[80] == b'\n' && !has_line_feed(line) {
+                    lines.push(Line { start: s, end: s + 80, next: s + 81 });
+                    s += 81;
+                    continue;
+                }
+            }
+            let Some(k) = memchr::memchr(b'\n', &src[s..]) else { break };
+            lines.push(Line { start: s, end: s + k, next: s + k + 1 });
+            s += k + 1;
         }
     } else {
         let mut i = 0;
@@ -59,6 +70,17 @@ fn split_lines(src: &[u8]) -> Vec<Line> {
         lines.push(Line { start: s, end: src.len(), next: src.len() });
     }
     lines
+}
+
+/// Whether the first 80 bytes of `line` hold a line feed.
+fn has_line_feed(line: &[u8; 81]) -> bool {
+    let mut any = 0u64;
+    for c in line[..80].chunks_exact(8) {
+        let x = u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]) ^ 0x0A0A_0A0A_0A0A_0A0A;
+        // High bit of each zero byte (exact: no borrow between bytes).
+        any |= !(((x & 0x7F7F_7F7F_7F7F_7F7F) + 0x7F7F_7F7F_7F7F_7F7F) | x) & 0x8080_8080_8080_8080;
+    }
+    any != 0
 }
 
 fn is_blank_line(b: &[u8]) -> bool {
@@ -315,10 +337,11 @@ fn directory(a: &[u8], b: &[u8], line: usize, entries: usize) -> Result<Director
 
 /// Reads the whole document, taking ownership of the bytes (kept for writing).
 pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
-    let bytes = &source[..];
-    let lines = split_lines(bytes);
-    let layout = sections(bytes, &lines)?;
-    let global = global(bytes, &lines, &layout)?;
+    let lines = split_lines(&source);
+    let src = Arc::new(Source { bytes: source, lines });
+    let (bytes, lines) = (&src.bytes[..], &src.lines[..]);
+    let layout = sections(bytes, lines)?;
+    let global = global(bytes, lines, &layout)?;
     let (pd, rd) = (global.parameter_delimiter, global.record_delimiter);
 
     let d = layout.directory.clone();
@@ -331,8 +354,9 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
     let n = d.len() / 2;
     let n_p = layout.parameter.len();
     let p0 = layout.parameter.start;
-    let mut entities: Vec<Entity> = Vec::with_capacity(n);
-    for k in 0..n {
+    // Each entry and its record are read on their own, in parallel; the first error in
+    // directory order is reported, as a sequential read would.
+    let read_entity = |k: usize| -> Result<Entity> {
         let la = d.start + 2 * k;
         let a = &bytes[lines[la].start..lines[la].end];
         let b = &bytes[lines[la + 1].start..lines[la + 1].end];
@@ -350,10 +374,8 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
             });
         }
         let (p_first, p_count) = ((first - 1) as usize, count as usize);
-        let mut text = Vec::with_capacity(p_count * P_WIDTH);
-        for l in &lines[p0 + p_first..p0 + p_first + p_count] {
-            text.extend_from_slice(&bytes[l.start..l.start + P_WIDTH]);
-        }
+        let range = p0 + p_first..p0 + p_first + p_count;
+        let rec = lexer::RecordLines { bytes, lines: &lines[range.clone()], width: P_WIDTH };
         // Columns 65–72 of the first line point back to the entry.
         let first_line = &bytes[lines[p0 + p_first].start..lines[p0 + p_first].end];
         let back = trim(&first_line[64..72]);
@@ -366,19 +388,26 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
         }
         let p_line = p0 + p_first + 1;
         let map = |off: usize| pos('P', p_line + off / P_WIDTH, off % P_WIDTH + 1, Some(id.0));
-        let tokens = lexer::tokenize_record(&text, pd, rd, P_WIDTH).map_err(|e| lex_position(&e, &map))?;
+        let lexer::Record { tokens, text, strings } =
+            lexer::tokenize_record(&rec, pd, rd).map_err(|e| lex_position(&e, &map))?;
         if tokens.first().copied() != Some(Raw::Integer(i64::from(dir.entity_type))) {
             return Err(Error::Mismatch {
                 at: map(0),
                 expected: format!("entity type {} first", dir.entity_type),
-                found: snippet(&text[..text.len().min(16)]),
+                found: snippet(&first_line[..16]),
             });
         }
-        entities.push(Entity {
+        // Long records keep no copy of their text: it is built from the input if asked for.
+        let text = match text {
+            Some(t) => RecordText::owned(t),
+            None => RecordText::lazy(Arc::clone(&src), range),
+        };
+        Ok(Entity {
             id,
             directory: dir,
             text,
             tokens,
+            strings,
             delimiters: (pd, rd),
             p_first,
             p_count,
@@ -386,8 +415,13 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
             d_line: la + 1,
             new_lines: None,
             directory_changed: false,
-        });
-    }
+        })
+    };
+    let entities: Vec<Entity> = {
+        use rayon::prelude::*;
+        let read: Vec<Result<Entity>> = (0..n).into_par_iter().map(read_entity).collect();
+        read.into_iter().collect::<Result<_>>()?
+    };
     // Directory pointers that must name an entry.
     for e in &entities {
         let dir = &e.directory;
@@ -446,7 +480,7 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
         p_blocks.push(PBlock::Loose(next..n_p));
     }
     let zero_padded = lines.first().is_some_and(|l| bytes.get(l.start + 73) == Some(&b'0'));
-    Ok(Document { source: bytes.to_vec(), lines, layout, global, entities, p_blocks, edited: false, zero_padded })
+    Ok(Document { src, layout, global, entities, p_blocks, edited: false, zero_padded })
 }
 
 #[cfg(test)]
@@ -458,5 +492,23 @@ mod tests {
         let l = split_lines(b"a\r\nb\nc\rd");
         let spans: Vec<_> = l.iter().map(|l| (l.start, l.end, l.next)).collect();
         assert_eq!(spans, vec![(0, 1, 3), (3, 4, 5), (5, 6, 7), (7, 8, 8)]);
+    }
+
+    #[test]
+    fn eighty_column_lines_and_others() {
+        // 80-column lines (taken at a glance), a short one, a long one, a line feed
+        // inside what would be an 80-column line, no final line feed.
+        let mut src = Vec::new();
+        let mut want = Vec::new();
+        for len in [80usize, 80, 12, 95, 80, 30, 49, 80, 0, 80, 7] {
+            let s = src.len();
+            src.extend(std::iter::repeat_n(b'x', len));
+            want.push((s, s + len, s + len + 1));
+            src.push(b'\n');
+        }
+        src.extend_from_slice(b"tail");
+        want.push((src.len() - 4, src.len(), src.len()));
+        let got: Vec<_> = split_lines(&src).iter().map(|l| (l.start, l.end, l.next)).collect();
+        assert_eq!(got, want);
     }
 }

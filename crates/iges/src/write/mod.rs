@@ -112,15 +112,15 @@ fn patch_field(line: &mut [u8], k: usize, value: i64) {
 /// Writes the document (see [`Document::write`]).
 pub(crate) fn write(doc: &Document) -> Vec<u8> {
     if !doc.edited {
-        return doc.source.clone();
+        return doc.src.bytes.clone();
     }
     let layout = &doc.layout;
     let eol = doc.eol().to_vec();
-    let mut out = Vec::with_capacity(doc.source.len() + 4096);
+    let mut out = Vec::with_capacity(doc.src.bytes.len() + 4096);
     // S and G lines verbatim.
-    let head_end = doc.lines[layout.directory.start.min(layout.terminate)].start;
-    let head_start = doc.lines.get(layout.start.start).map_or(0, |l| l.start);
-    out.extend_from_slice(&doc.source[head_start..head_end]);
+    let head_end = doc.src.lines[layout.directory.start.min(layout.terminate)].start;
+    let head_start = doc.src.lines.get(layout.start.start).map_or(0, |l| l.start);
+    out.extend_from_slice(&doc.src.bytes[head_start..head_end]);
 
     // New P positions.
     let mut new_first = vec![0usize; doc.entities.len()];
@@ -158,26 +158,26 @@ pub(crate) fn write(doc: &Document) -> Vec<u8> {
             patch_field(&mut b, 4, e.directory.form);
         }
         out.extend_from_slice(&a);
-        out.extend_from_slice(&doc.source[doc.lines[la].end..doc.lines[la].next]);
+        out.extend_from_slice(&doc.src.bytes[doc.src.lines[la].end..doc.src.lines[la].next]);
         out.extend_from_slice(&b);
-        out.extend_from_slice(&doc.source[doc.lines[la + 1].end..doc.lines[la + 1].next]);
+        out.extend_from_slice(&doc.src.bytes[doc.src.lines[la + 1].end..doc.src.lines[la + 1].next]);
     }
 
     // P section.
     let p0 = layout.parameter.start;
     let mut n = 0usize;
     let copy_line = |out: &mut Vec<u8>, li: usize, n: usize| {
-        let l = doc.lines[li];
+        let l = doc.src.lines[li];
         if li - p0 == n {
-            out.extend_from_slice(&doc.source[l.start..l.next]);
+            out.extend_from_slice(&doc.src.bytes[l.start..l.next]);
         } else {
-            let text = &doc.source[l.start..l.end];
+            let text = &doc.src.bytes[l.start..l.end];
             out.extend_from_slice(&text[..73]);
             out.extend_from_slice(seq(n + 1, doc.zero_padded).as_bytes());
             if text.len() > 80 {
                 out.extend_from_slice(&text[80..]);
             }
-            out.extend_from_slice(&doc.source[l.end..l.next]);
+            out.extend_from_slice(&doc.src.bytes[l.end..l.next]);
         }
     };
     for b in &doc.p_blocks {
@@ -225,9 +225,9 @@ pub(crate) fn write(doc: &Document) -> Vec<u8> {
             line[25..32].copy_from_slice(s.as_bytes());
         }
         out.extend_from_slice(&line);
-        out.extend_from_slice(&doc.source[doc.lines[t].end..doc.lines[t].next]);
+        out.extend_from_slice(&doc.src.bytes[doc.src.lines[t].end..doc.src.lines[t].next]);
     }
-    out.extend_from_slice(&doc.source[layout.trailer..]);
+    out.extend_from_slice(&doc.src.bytes[layout.trailer..]);
     out
 }
 
