@@ -345,6 +345,20 @@ impl Document {
         }
     }
 
+    /// Surface `id`'s transformation, and the boundary points of the face that bounds it
+    /// (if one does) in the surface's own coordinates: where an unbounded surface's
+    /// extent comes from.
+    fn placement_and_hint(&self, id: EntityId) -> Result<(Matrix4<f64>, Vec<Point3<f64>>)> {
+        let face = self.faces().into_iter().find(|f| f.surface == id && f.face != id);
+        let hint = match face {
+            Some(f) => self.boundary_points(f.face)?,
+            None => Vec::new(),
+        };
+        let m = self.transform(id)?;
+        let inv = m.try_inverse().ok_or(Error::Transform { de: id.0, reason: "singular transformation matrix" })?;
+        Ok((m, hint.iter().map(|p| inv.transform_point(p)).collect()))
+    }
+
     /// The surface entity `id` as an exact NURBS with its own transformation applied,
     /// with the maps from the entity's (OCCT's) parameters to the NURBS ones.
     ///
@@ -358,14 +372,7 @@ impl Document {
     /// [`Error::Geometry`] for invalid data.
     pub fn surface(&self, id: EntityId) -> Result<ExactSurface> {
         self.surface_chain(id)?;
-        let face = self.faces().into_iter().find(|f| f.surface == id && f.face != id);
-        let hint = match face {
-            Some(f) => self.boundary_points(f.face)?,
-            None => Vec::new(),
-        };
-        let m = self.transform(id)?;
-        let inv = m.try_inverse().ok_or(Error::Transform { de: id.0, reason: "singular transformation matrix" })?;
-        let local_hint: Vec<Point3<f64>> = hint.iter().map(|p| inv.transform_point(p)).collect();
+        let (m, local_hint) = self.placement_and_hint(id)?;
         let mut s = self.surface_local(id, &local_hint, 0)?;
         if m != Matrix4::identity() {
             s.surface.transform_by(&m);
@@ -542,14 +549,7 @@ impl Document {
         let View::OffsetSurface(o) = self.view(id)? else {
             return Err(unsupported(self, id, "not an offset surface (140)"));
         };
-        let face = self.faces().into_iter().find(|f| f.surface == id && f.face != id);
-        let hint = match face {
-            Some(f) => self.boundary_points(f.face)?,
-            None => Vec::new(),
-        };
-        let m = self.transform(id)?;
-        let inv = m.try_inverse().ok_or(Error::Transform { de: id.0, reason: "singular transformation matrix" })?;
-        let local_hint: Vec<Point3<f64>> = hint.iter().map(|p| inv.transform_point(p)).collect();
+        let (m, local_hint) = self.placement_and_hint(id)?;
         let (mut s, fit) = self.offset_local(id, &o, &local_hint, 0, tolerance)?;
         if m != Matrix4::identity() {
             s.surface.transform_by(&m);

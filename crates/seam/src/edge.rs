@@ -6,7 +6,7 @@ use cadmorph_nurbs::math::Point3;
 use cadmorph_nurbs::{Aabb, Curve, CurveProject, NurbsCurve, NurbsSurface, Projection, Surface, SurfaceProject};
 
 use crate::adjacency::overlap;
-use crate::measure::{angle_deg, oriented_normal, Acc, EdgeEnd, EdgeReport, Face, SHARP_EDGE_DEG};
+use crate::measure::{angle_deg, oriented_normal, Acc, EdgeEnd, EdgeReport, Face};
 use crate::SharedBoundary;
 
 /// An edge shared by two faces, given by its model-space curve: the edge is the curve
@@ -175,20 +175,8 @@ pub fn measure_edge_samples(faces: &[Face], s: &EdgeSamples) -> EdgeReport {
             g1u.add(a.min(180.0 - a), *pa, *t);
         }
     }
-    let g1_angle_unoriented_deg = g1u.stat();
-    EdgeReport {
-        a: EdgeEnd { patch: s.a, side: None },
-        b: EdgeEnd { patch: s.b, side: None },
-        edge: s.label.clone(),
-        samples: s.at.len(),
-        length,
-        gap_closest: gap_closest.stat(),
-        gap_matched: gap_matched.stat(),
-        g1_angle_deg: g1.stat(),
-        sharp: g1_angle_unoriented_deg.max > SHARP_EDGE_DEG,
-        g1_angle_unoriented_deg,
-        c1_mismatch: None,
-    }
+    let sides = (EdgeEnd { patch: s.a, side: None }, EdgeEnd { patch: s.b, side: None }, s.label.clone());
+    EdgeReport::from_sums(sides, s.at.len(), length, [&gap_closest, &gap_matched, &g1, &g1u], None)
 }
 
 /// Pairs of trimming curves of different faces that lie on each other within `tol`

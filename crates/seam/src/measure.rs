@@ -260,19 +260,35 @@ pub fn measure_boundary(faces: &[Face], edge: &SharedBoundary, samples: usize) -
             c1.add((da + db).norm() / denom, pa, t);
         }
     }
-    let g1_angle_unoriented_deg = g1u.stat();
-    EdgeReport {
-        a: edge.a.into(),
-        b: edge.b.into(),
-        edge: None,
-        samples,
-        length,
-        gap_closest: gap_closest.stat(),
-        gap_matched: gap_matched.stat(),
-        g1_angle_deg: g1.stat(),
-        sharp: g1_angle_unoriented_deg.max > SHARP_EDGE_DEG,
-        g1_angle_unoriented_deg,
-        c1_mismatch: (c1.n > 0).then(|| c1.stat()),
+    let c1_mismatch = (c1.n > 0).then(|| c1.stat());
+    let sides = (edge.a.into(), edge.b.into(), None);
+    EdgeReport::from_sums(sides, samples, length, [&gap_closest, &gap_matched, &g1, &g1u], c1_mismatch)
+}
+
+impl EdgeReport {
+    /// The report of an edge between `sides` (with its file label) from the sums of its
+    /// samples: closest gap, matched gap, oriented and unoriented normal angle.
+    pub(crate) fn from_sums(
+        (a, b, edge): (EdgeEnd, EdgeEnd, Option<String>),
+        samples: usize,
+        length: f64,
+        [gap_closest, gap_matched, g1, g1u]: [&Acc; 4],
+        c1_mismatch: Option<Stat>,
+    ) -> Self {
+        let g1_angle_unoriented_deg = g1u.stat();
+        Self {
+            a,
+            b,
+            edge,
+            samples,
+            length,
+            gap_closest: gap_closest.stat(),
+            gap_matched: gap_matched.stat(),
+            g1_angle_deg: g1.stat(),
+            sharp: g1_angle_unoriented_deg.max > SHARP_EDGE_DEG,
+            g1_angle_unoriented_deg,
+            c1_mismatch,
+        }
     }
 }
 
