@@ -16,7 +16,7 @@ use cadmorph_seam::{
 use cadmorph_step as step;
 use serde::Serialize;
 
-use crate::topology::{iges_edges, iges_reversed_faces, step_edges};
+use crate::topology::{iges_edges, iges_reversed_faces, step_edges, step_face_patches};
 use crate::{Error, Result};
 
 /// The file format a model came from.
@@ -891,7 +891,29 @@ fn write_step(
             }
         }
     }
+    // Edge curves: the document's recompute keeps each curve's knots, which follows the
+    // face only where the edge is an iso-boundary with the face's knots (a straight edge
+    // stays straight). So every edge is also traced on its first morphed face before the
+    // morph (control points moved where that stays within tolerance, else a fit) and
+    // written after it.
+    let faces = doc.faces()?;
+    let patch_of = step_face_patches(&faces, old);
+    let tol = 1e-7 * size_of(old);
+    let mut traced = Vec::new();
+    for e in doc.edges(&faces)? {
+        let Some(patch) = e.faces.iter().find_map(|&f| patch_of[f]) else { continue };
+        let Ok(wc) = doc.edge_curve(&e) else { continue };
+        if !moved_by(d, wc.curve.control_points()) {
+            continue;
+        }
+        if let Some(c) = follow_face(&wc.curve, &old[patch].surface, &new[patch], d, tol) {
+            if !c.is_rational() {
+                traced.push((e, c));
+            }
+        }
+    }
     let report = doc.morph(&|p: &Point3<f64>| d.deform_point(p), step::EdgePolicy::default())?;
+    doc.set_edge_curves(&traced)?;
     if repaired {
         let faces = doc.faces()?;
         for (p, s) in old.iter().zip(new) {

@@ -28,7 +28,7 @@ fn pairs(faces: &[usize]) -> Vec<(usize, usize)> {
 
 /// The patch index of every face of `faces` (from [`step::Document::faces`]), given that
 /// `patches` were made from the same list in order, skipping faces that did not convert.
-fn step_face_patches(faces: &[step::Face], patches: &[Patch]) -> Vec<Option<usize>> {
+pub(crate) fn step_face_patches(faces: &[step::Face], patches: &[Patch]) -> Vec<Option<usize>> {
     let mut next = 0;
     faces
         .iter()

@@ -210,13 +210,9 @@ fn mixed_solid_refinement_keeps_topology_edges_closed() {
         assert_eq!(r.seams_after.edges.len(), 29, "{name}");
         // The written edge curves lie on the morphed faces: measured afresh from the
         // file, edges found from its curves, the seams are as closed
-        // (IGES: trims and B-rep edges are traced on the morphed faces. STEP recomputes
-        // its edges with their own knots, so a straight edge stays straight: not yet.)
-        if name.ends_with(".igs") {
-            let fresh = Model::from_bytes(&refined.to_bytes()).unwrap().seams(50);
-            assert_eq!(fresh.edges.len(), 29, "{name}");
-            assert!(fresh.max_gap_closest <= tol, "{name}: {}", fresh.max_gap_closest);
-        }
+        let fresh = Model::from_bytes(&refined.to_bytes()).unwrap().seams(50);
+        assert_eq!(fresh.edges.len(), 29, "{name}: {}", fresh.table());
+        assert!(fresh.max_gap_closest <= tol, "{name}: {}", fresh.max_gap_closest);
     }
 }
 

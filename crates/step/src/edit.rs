@@ -9,7 +9,7 @@ use cadmorph_nurbs::{Curve, NurbsCurve, NurbsSurface, SurfaceProject};
 use crate::document::Document;
 use crate::error::{Error, Result};
 use crate::read::param::Body;
-use crate::views::{Ctx, Face, SurfaceKind};
+use crate::views::{Ctx, Edge, Face, SurfaceKind};
 use crate::write::{knot_lists, real_list};
 use crate::EntityId;
 
@@ -254,6 +254,63 @@ impl Document {
         };
         self.replace_instance_text(id, text)?;
         Ok(ids)
+    }
+
+    /// Gives each of `edges` a new 3D curve: the non-rational B-spline curve given (world
+    /// coordinates, model units; the edge's placement is undone here), written as a new
+    /// instance that the edge's `SURFACE_CURVE`/`SEAM_CURVE` (where it has one) or the
+    /// `EDGE_CURVE` itself then points at; the old curve stays in the file, unused by
+    /// this edge. Meant for edges traced on morphed faces: each new curve must run the
+    /// way the old one did between the edge's vertices, so the edge's sense and the
+    /// vertices stay valid. Returns how many edges were given a curve.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::NoSuchInstance`] for an unknown edge; [`Error::Edit`] for a singular
+    /// placement, a rational or non-finite curve.
+    pub fn set_edge_curves(&mut self, edges: &[(Edge, NurbsCurve)]) -> Result<usize> {
+        let mut n = 0;
+        for (e, c) in edges {
+            let k = self.index.get(e.id.0).ok_or(Error::NoSuchInstance(e.id))?;
+            let edit = |reason: &str| Error::Edit { at: self.position_of(k, 0), reason: reason.into() };
+            if c.is_rational() {
+                return Err(edit("rational edge curve"));
+            }
+            let inverse = e.transform.try_inverse().ok_or_else(|| edit("singular edge placement"))?;
+            let local = c.transformed(&inverse);
+            if local.control_points().iter().any(|p| !p.coords.iter().all(|x| x.is_finite())) {
+                return Err(edit("non-finite edge curve"));
+            }
+            // Where the reference to the 3D curve sits: the SURFACE_CURVE's first
+            // parameter, or the EDGE_CURVE's fourth.
+            let kc = self.index.get(e.curve.0).ok_or(Error::NoSuchInstance(e.curve))?;
+            let site = match self.body_at(kc)? {
+                Body::Simple(r)
+                    if matches!(self.name_of(kc), "SURFACE_CURVE" | "SEAM_CURVE")
+                        && r.params.get(1).and_then(|p| p.as_ref_id()).is_some() =>
+                {
+                    Some((kc, r.params[1].start, r.params[1].end))
+                }
+                _ => match self.body_at(k)? {
+                    Body::Simple(r) if r.params.len() == 5 => Some((k, r.params[3].start, r.params[3].end)),
+                    _ => None,
+                },
+            };
+            let Some((at, start, end)) = site else { continue };
+            let mut ids = Vec::with_capacity(local.control_points().len());
+            for p in local.control_points() {
+                ids.push(self.add_instance(&format!("CARTESIAN_POINT('',{})", real_list(p.coords.iter().copied())))?);
+            }
+            let (mults, knots) = knot_lists(local.knots());
+            let poles = ids.iter().map(|i| format!("#{}", i.0)).collect::<Vec<_>>().join(",");
+            let curve = self.add_instance(&format!(
+                "B_SPLINE_CURVE_WITH_KNOTS('',{},({poles}),.UNSPECIFIED.,.F.,.F.,{mults},{knots},.UNSPECIFIED.)",
+                local.degree()
+            ))?;
+            self.splice(at, start, end, &format!("#{}", curve.0))?;
+            n += 1;
+        }
+        Ok(n)
     }
 
     /// Instances that reference `#target`, by position.
@@ -519,7 +576,6 @@ fn bspline_of(ctx: &Ctx<'_>, id: EntityId) -> Result<Option<EntityId>> {
     }
 }
 
-/// Greville abscissae `(t_{i+1} + … + t_{i+p}) / p`.
 fn weight_text(w: &[f64], rows: Option<usize>) -> String {
     match rows {
         Some(n_u) if n_u > 0 && w.len() % n_u == 0 => {

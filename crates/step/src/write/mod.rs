@@ -175,13 +175,13 @@ impl Document {
     }
 }
 
-/// `(a,b,c)` with [`format_real`] numbers.
 /// A knot vector as Part 21's two lists: `(multiplicities, distinct values)`.
 pub(crate) fn knot_lists(knots: &cadmorph_nurbs::KnotVector) -> (String, String) {
     let (vals, ms) = knots.distinct();
     (format!("({})", ms.iter().map(usize::to_string).collect::<Vec<_>>().join(",")), real_list(vals))
 }
 
+/// `(a,b,c)` with [`format_real`] numbers.
 pub(crate) fn real_list(xs: impl IntoIterator<Item = f64>) -> String {
     let mut s = String::from("(");
     for (i, x) in xs.into_iter().enumerate() {
