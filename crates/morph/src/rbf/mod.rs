@@ -9,7 +9,7 @@ mod kernel;
 
 pub use kernel::{Kernel, DEFAULT_K};
 
-use faer::linalg::solvers::{PartialPivLu, Solve};
+use faer::linalg::solvers::{Lblt, Solve};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Mat, Side};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
@@ -69,7 +69,7 @@ pub enum Solver {
     /// [`SPARSE_MIN_CENTRES`] centres.
     #[default]
     Auto,
-    /// Dense LU with partial pivoting (faer) of the whole `(N+4)²` system.
+    /// Dense Bunch–Kaufman `LBLᵀ` factorisation (faer) of the whole symmetric `(N+4)²` system.
     Dense,
     /// Sparse Cholesky (faer, AMD ordering) of the kernel block and a 4×4 Schur complement
     /// for the linear term; compact kernels only.
@@ -104,7 +104,8 @@ impl Default for RbfOptions {
 /// The factorised interpolation system.
 #[derive(Debug, Clone)]
 enum System {
-    Dense(PartialPivLu<f64>),
+    /// Bunch–Kaufman `LBLᵀ` of the symmetric (indefinite) `(N+4)²` system.
+    Dense(Lblt<f64>),
     Sparse {
         llt: faer::sparse::linalg::solvers::Llt<usize, f64>,
         /// Φ⁻¹P (N×4).
@@ -137,7 +138,7 @@ enum System {
 /// which changes no value but keeps the system well conditioned for models far from the
 /// origin or in millimetres.
 ///
-/// Building solves the system once, densely (faer LU) for global kernels, or with a
+/// Building solves the system once, densely (faer `LBLᵀ`) for global kernels, or with a
 /// sparse matrix for compactly supported ones (sparse Cholesky from [`SPARSE_MIN_CENTRES`],
 /// conjugate gradients from [`ITERATIVE_MIN_CENTRES`] centres, see [`Solver`]), and refuses a singular or ill-conditioned system
 /// ([`Error::SingularSystem`], [`Error::IllConditioned`]) with its condition estimate.
@@ -276,7 +277,7 @@ impl Rbf {
             beta: [[0.0; 4]; 3],
             shift,
             scale,
-            system: System::Dense(Mat::<f64>::identity(1, 1).partial_piv_lu()),
+            system: System::Dense(Mat::<f64>::identity(1, 1).lblt(Side::Lower)),
             condition: 1.0,
             tree,
             grid: kernel.support().map(|s| Grid::new(centres, s)),
@@ -344,15 +345,14 @@ impl Rbf {
             }
         });
         let norm1 = data.par_chunks(size).map(|c| c.iter().map(|v| v.abs()).sum::<f64>()).reduce(|| 0.0, f64::max);
-        let a = Mat::from_fn(size, size, |i, j| data[j * size + i]);
+        // The system is symmetric (indefinite with the polynomial block): Bunch–Kaufman
+        // LBLᵀ reads the lower triangle and costs half of an LU.
+        let lblt = faer::MatRef::from_column_major_slice(&data, size, size).lblt(Side::Lower);
         drop(data);
-        let lu = a.partial_piv_lu();
-        drop(a);
-        let inv =
-            condition::inverse_norm1(size, &mut |x: &mut [f64]| solve_vec(&lu, x, false), &mut |x: &mut [f64]| {
-                solve_vec(&lu, x, true)
-            });
-        Ok((System::Dense(lu), norm1 * inv))
+        let inv = condition::inverse_norm1(size, &mut |x: &mut [f64]| solve_vec(&lblt, x), &mut |x: &mut [f64]| {
+            solve_vec(&lblt, x)
+        });
+        Ok((System::Dense(lblt), norm1 * inv))
     }
 
     fn factor_sparse(&self) -> Result<(System, f64)> {
@@ -540,7 +540,7 @@ impl Rbf {
         let n = self.centres.len();
         let m = rhs.ncols();
         let (z, phi_inv_p, schur_inv) = match &self.system {
-            System::Dense(lu) => return lu.solve_in_place(rhs.as_mut()),
+            System::Dense(lblt) => return lblt.solve_in_place(rhs.as_mut()),
             System::Sparse { llt, phi_inv_p, schur_inv } => {
                 let mut z = Mat::from_fn(n, m, |i, j| rhs[(i, j)]);
                 llt.solve_in_place(z.as_mut());
@@ -718,14 +718,10 @@ fn cg_max_iter(n: usize) -> usize {
     (3 * n).clamp(1000, 20_000)
 }
 
-/// `x ← A⁻¹x` (or `A⁻ᵀx`) with a dense LU.
-fn solve_vec(lu: &PartialPivLu<f64>, x: &mut [f64], transpose: bool) {
+/// `x ← A⁻¹x` with the dense `LBLᵀ` factors (A is symmetric, so also `A⁻ᵀx`).
+fn solve_vec(lblt: &Lblt<f64>, x: &mut [f64]) {
     let mut m = Mat::from_fn(x.len(), 1, |i, _| x[i]);
-    if transpose {
-        lu.solve_transpose_in_place(m.as_mut());
-    } else {
-        lu.solve_in_place(m.as_mut());
-    }
+    lblt.solve_in_place(m.as_mut());
     for (i, v) in x.iter_mut().enumerate() {
         *v = m[(i, 0)];
     }
