@@ -403,7 +403,11 @@ impl pulp::WithSimd for DeformSimd<'_> {
                 for (a, ua) in u.iter_mut().enumerate() {
                     let v = inv[(a, 0)] * e[0] + inv[(a, 1)] * e[1] + inv[(a, 2)] * e[2];
                     ok &= (v >= -t) & (v <= 1.0 + t);
-                    ua[count] = v.max(0.0).min(1.0);
+                    // max/min (vmaxsd/vminsd), not clamp: no NaN propagation to preserve here,
+                    // since the point only counts as inside when `ok`.
+                    #[allow(clippy::manual_clamp)]
+                    let clamped = v.max(0.0).min(1.0);
+                    ua[count] = clamped;
                 }
                 idx[count] = q as u32;
                 count += ok as usize;
