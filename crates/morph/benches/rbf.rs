@@ -1,6 +1,6 @@
 //! RBF: thin-plate spline with 1000 centres on 1e5 points and 4000 centres on 1e6 points
-//! (dense faer LU), Wendland C2 with 50,000 centres on 1e6 points (k-d tree + sparse
-//! Cholesky). Solve and evaluation are timed separately.
+//! (dense: null-space method, faer Cholesky), Wendland C2 with 50,000 centres on 1e6 points (sparse
+//! Cholesky or conjugate gradients). Solve and evaluation are timed separately.
 #![allow(missing_docs)] // criterion_group! generates an undocumented public function
 
 mod common;

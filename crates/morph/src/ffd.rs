@@ -350,9 +350,11 @@ impl Ffd {
         self.frame * contract(&self.mu, &bx, &by, &bz)
     }
 
-    /// Deform `points` on the calling thread, eight at a time: the box mapping, the
-    /// Bernstein values and the lattice sum all run across the eight lanes, inside one
-    /// `pulp` dispatch (AVX2/FMA when the CPU has them).
+    /// Deform `points` on the calling thread. The points are taken [`SUB`] at a time: the
+    /// ones inside the box are gathered (with their unit-box coordinates) into
+    /// structure-of-arrays scratch on the stack, and only those go through the Bernstein
+    /// values and the lattice sum, one SIMD vector of points at a time inside one `pulp`
+    /// dispatch (AVX2/FMA when the CPU has them; portable code otherwise).
     fn deform_serial(&self, points: &mut [Point3<f64>]) {
         let [l, m, n] = self.mu.shape;
         if l.max(m).max(n) > 33 {
@@ -362,77 +364,185 @@ impl Ffd {
             }
             return;
         }
-        pulp::Arch::new().dispatch(DeformLanes { ffd: self, points })
+        pulp::Arch::new().dispatch(DeformSimd { ffd: self, points })
     }
 }
 
+/// Points gathered per pass of [`Ffd::deform_serial`].
+const SUB: usize = 256;
+/// Widest SIMD vector of `f64` handled (AVX-512 has 8 lanes).
+const MAX_W: usize = 8;
+
 /// The whole FFD of a slice, compiled inside `pulp`'s target-feature function.
-struct DeformLanes<'a> {
+struct DeformSimd<'a> {
     ffd: &'a Ffd,
     points: &'a mut [Point3<f64>],
 }
 
-impl pulp::WithSimd for DeformLanes<'_> {
+impl pulp::WithSimd for DeformSimd<'_> {
     type Output = ();
 
     #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, _simd: S) {
-        let DeformLanes { ffd, points } = self;
-        let [l, m, n] = ffd.mu.shape;
-        let mut bx = [[0.0; LANES]; 33];
-        let mut by = [[0.0; LANES]; 33];
-        let mut bz = [[0.0; LANES]; 33];
-        let (o, inv, t) = (ffd.box_origin, ffd.inverse, ffd.face_tol);
-        for block in points.chunks_mut(LANES) {
-            let mut u = [[0.0; LANES]; 3];
-            let mut inside = [false; LANES];
-            for (lane, p) in block.iter().enumerate() {
-                let d = [p.x - o.x, p.y - o.y, p.z - o.z];
+    fn with_simd<S: pulp::Simd>(self, simd: S) {
+        let DeformSimd { ffd, points } = self;
+        let w = S::F64_LANES;
+        assert!(w <= MAX_W && SUB % w == 0, "unsupported SIMD width {w}");
+        let (o, inv, t, f) = (ffd.box_origin, ffd.inverse, ffd.face_tol, ffd.frame);
+        let mut idx = [0u32; SUB];
+        let mut u = [[0.0; SUB]; 3];
+        let mut d = [[0.0; SUB]; 3];
+        let mut scratch = [[simd.splat_f64s(0.0); 33]; 3];
+        for sub in points.chunks_mut(SUB) {
+            // Gather the points inside the (tolerance-widened) box.
+            let mut count = 0;
+            for (q, p) in sub.iter().enumerate() {
+                let e = [p.x - o.x, p.y - o.y, p.z - o.z];
+                // Branch-free: every point is written at `count`, which only advances for
+                // the inside ones (a branch here would be mispredicted for random points).
                 let mut ok = true;
-                for a in 0..3 {
-                    let v = inv[(a, 0)] * d[0] + inv[(a, 1)] * d[1] + inv[(a, 2)] * d[2];
-                    ok &= v >= -t && v <= 1.0 + t;
-                    u[a][lane] = v.clamp(0.0, 1.0);
+                for (a, ua) in u.iter_mut().enumerate() {
+                    let v = inv[(a, 0)] * e[0] + inv[(a, 1)] * e[1] + inv[(a, 2)] * e[2];
+                    ok &= (v >= -t) & (v <= 1.0 + t);
+                    // max/min (vmaxsd/vminsd), not clamp: no NaN propagation to preserve here,
+                    // since the point only counts as inside when `ok`.
+                    #[allow(clippy::manual_clamp)]
+                    let clamped = v.max(0.0).min(1.0);
+                    ua[count] = clamped;
                 }
-                inside[lane] = ok;
+                idx[count] = q as u32;
+                count += ok as usize;
             }
-            if !inside.iter().any(|&b| b) {
+            if count == 0 {
                 continue;
             }
-            bernstein_lanes(l - 1, &u[0], &mut bx[..l]);
-            bernstein_lanes(m - 1, &u[1], &mut by[..m]);
-            bernstein_lanes(n - 1, &u[2], &mut bz[..n]);
-            let acc = lattice_sum_body(&ffd.mu, &bx[..l], &by[..m], &bz[..n]);
-            let f = &ffd.frame;
-            for (lane, p) in block.iter_mut().enumerate() {
-                if inside[lane] {
-                    let (a, b, c) = (acc[0][lane], acc[1][lane], acc[2][lane]);
-                    p.x += f[(0, 0)] * a + f[(0, 1)] * b + f[(0, 2)] * c;
-                    p.y += f[(1, 0)] * a + f[(1, 1)] * b + f[(1, 2)] * c;
-                    p.z += f[(2, 0)] * a + f[(2, 1)] * b + f[(2, 2)] * c;
+            // Pad the last vector with a valid coordinate (its result is not used).
+            let padded = count.div_ceil(w) * w;
+            for ua in u.iter_mut() {
+                ua[count..padded].fill(0.5);
+            }
+            for start in (0..padded).step_by(w) {
+                let load = |a: &[f64; SUB]| S::as_simd_f64s(&a[start..start + w]).0[0];
+                let acc = displacement_simd(simd, &ffd.mu, [load(&u[0]), load(&u[1]), load(&u[2])], &mut scratch);
+                for (c, dc) in d.iter_mut().enumerate() {
+                    S::as_mut_simd_f64s(&mut dc[start..start + w]).0[0] = acc[c];
                 }
+            }
+            for q in 0..count {
+                let p = &mut sub[idx[q] as usize];
+                let (a, b, c) = (d[0][q], d[1][q], d[2][q]);
+                p.x += f[(0, 0)] * a + f[(0, 1)] * b + f[(0, 2)] * c;
+                p.y += f[(1, 0)] * a + f[(1, 1)] * b + f[(1, 2)] * c;
+                p.z += f[(2, 0)] * a + f[(2, 1)] * b + f[(2, 2)] * c;
             }
         }
     }
 }
 
-/// [`bernstein`] across `LANES` points (`deg ≤ 32`).
+/// `Σₗₘₙ bₗ(u) bₘ(v) bₙ(t) μₗₘₙ` for one SIMD vector of points with unit-box coordinates
+/// `uvw` (lane = point), contracted one dimension at a time: over k for each (i, j), then
+/// over j, then over i, i.e. `3·(LMN + LM + L)` fused multiply-adds per vector.
+/// `scratch` holds the Bernstein values (set up once by the caller, not per vector).
 #[inline(always)]
-fn bernstein_lanes(deg: usize, t: &[f64; LANES], out: &mut [[f64; LANES]]) {
-    let mut tp = [1.0; LANES];
-    for o in out.iter_mut() {
-        *o = tp;
-        for lane in 0..LANES {
-            tp[lane] *= t[lane];
+fn displacement_simd<S: pulp::Simd>(
+    simd: S,
+    mu: &Displacements,
+    uvw: [S::f64s; 3],
+    scratch: &mut [[S::f64s; 33]; 3],
+) -> [S::f64s; 3] {
+    let [l, m, n] = mu.shape;
+    let zero = simd.splat_f64s(0.0);
+    let [bx, by, bz] = scratch;
+    bernstein_simd(simd, l - 1, uvw[0], &mut bx[..l]);
+    bernstein_simd(simd, m - 1, uvw[1], &mut by[..m]);
+    bernstein_simd(simd, n - 1, uvw[2], &mut bz[..n]);
+    let (bx, by) = (&bx[..l], &by[..m]);
+    // The k sum with the k extent known at compile time keeps the z values in registers.
+    match n {
+        2 => lattice_sum_simd::<S, 2>(simd, mu, bx, by, bz[..2].try_into().unwrap()),
+        3 => lattice_sum_simd::<S, 3>(simd, mu, bx, by, bz[..3].try_into().unwrap()),
+        4 => lattice_sum_simd::<S, 4>(simd, mu, bx, by, bz[..4].try_into().unwrap()),
+        5 => lattice_sum_simd::<S, 5>(simd, mu, bx, by, bz[..5].try_into().unwrap()),
+        6 => lattice_sum_simd::<S, 6>(simd, mu, bx, by, bz[..6].try_into().unwrap()),
+        7 => lattice_sum_simd::<S, 7>(simd, mu, bx, by, bz[..7].try_into().unwrap()),
+        8 => lattice_sum_simd::<S, 8>(simd, mu, bx, by, bz[..8].try_into().unwrap()),
+        _ => {
+            let bz = &bz[..n];
+            let mut acc = [zero; 3];
+            for (i, &bxi) in bx.iter().enumerate() {
+                let mut row = [zero; 3];
+                for (j, &byj) in by.iter().enumerate() {
+                    let base = (i * m + j) * n;
+                    let (mx, my, mz) = (&mu.x[base..base + n], &mu.y[base..base + n], &mu.z[base..base + n]);
+                    let mut s = [zero; 3];
+                    for (k, &b) in bz.iter().enumerate() {
+                        s[0] = simd.mul_add_f64s(b, simd.splat_f64s(mx[k]), s[0]);
+                        s[1] = simd.mul_add_f64s(b, simd.splat_f64s(my[k]), s[1]);
+                        s[2] = simd.mul_add_f64s(b, simd.splat_f64s(mz[k]), s[2]);
+                    }
+                    for c in 0..3 {
+                        row[c] = simd.mul_add_f64s(byj, s[c], row[c]);
+                    }
+                }
+                for c in 0..3 {
+                    acc[c] = simd.mul_add_f64s(bxi, row[c], acc[c]);
+                }
+            }
+            acc
         }
     }
-    let mut sp = [1.0; LANES];
-    for i in (0..=deg).rev() {
-        let c = BINOM[deg][i] as f64;
-        for lane in 0..LANES {
-            out[i][lane] *= c * sp[lane];
-            sp[lane] *= 1.0 - t[lane];
+}
+
+/// The lattice sum of [`displacement_simd`] for a lattice `N` nodes deep in z.
+#[inline(always)]
+fn lattice_sum_simd<S: pulp::Simd, const N: usize>(
+    simd: S,
+    mu: &Displacements,
+    bx: &[S::f64s],
+    by: &[S::f64s],
+    bz: [S::f64s; N],
+) -> [S::f64s; 3] {
+    let m = by.len();
+    let zero = simd.splat_f64s(0.0);
+    let mut acc = [zero; 3];
+    for (i, &bxi) in bx.iter().enumerate() {
+        let mut row = [zero; 3];
+        for (j, &byj) in by.iter().enumerate() {
+            let base = (i * m + j) * N;
+            let mx: &[f64; N] = mu.x[base..base + N].try_into().unwrap();
+            let my: &[f64; N] = mu.y[base..base + N].try_into().unwrap();
+            let mz: &[f64; N] = mu.z[base..base + N].try_into().unwrap();
+            let mut s = [zero; 3];
+            for k in 0..N {
+                s[0] = simd.mul_add_f64s(bz[k], simd.splat_f64s(mx[k]), s[0]);
+                s[1] = simd.mul_add_f64s(bz[k], simd.splat_f64s(my[k]), s[1]);
+                s[2] = simd.mul_add_f64s(bz[k], simd.splat_f64s(mz[k]), s[2]);
+            }
+            for c in 0..3 {
+                row[c] = simd.mul_add_f64s(byj, s[c], row[c]);
+            }
         }
+        for c in 0..3 {
+            acc[c] = simd.mul_add_f64s(bxi, row[c], acc[c]);
+        }
+    }
+    acc
+}
+
+/// [`bernstein`] across the lanes of a SIMD vector (`deg ≤ 32`); the same operations in
+/// the same order, so the values are those of [`bernstein`].
+#[inline(always)]
+fn bernstein_simd<S: pulp::Simd>(simd: S, deg: usize, t: S::f64s, out: &mut [S::f64s]) {
+    let one = simd.splat_f64s(1.0);
+    let mut tp = one;
+    for o in out.iter_mut() {
+        *o = tp;
+        tp = simd.mul_f64s(tp, t);
+    }
+    let s = simd.sub_f64s(one, t);
+    let mut sp = one;
+    for i in (0..=deg).rev() {
+        out[i] = simd.mul_f64s(out[i], simd.mul_f64s(simd.splat_f64s(BINOM[deg][i] as f64), sp));
+        sp = simd.mul_f64s(sp, s);
     }
 }
 
@@ -825,6 +935,87 @@ mod tests {
         bernstein(deg, t - h, &mut q);
         for i in 0..=deg {
             assert!((d[i] - (p[i] - q[i]) / (2.0 * h)).abs() < 1e-8);
+        }
+    }
+
+    /// A small deterministic generator (xorshift64*) for test inputs, in `[0, 1)`.
+    fn uniform(state: &mut u64) -> f64 {
+        *state ^= *state >> 12;
+        *state ^= *state << 25;
+        *state ^= *state >> 27;
+        (state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// The FFD written out directly: `p + frame · Σᵢⱼₖ C·uⁱ(1−u)^… μᵢⱼₖ`, binomials and
+    /// powers computed afresh for every term.
+    fn naive_deform(ffd: &Ffd, p: &Point3<f64>) -> Point3<f64> {
+        let [l, m, n] = ffd.mu.shape;
+        let u = ffd.inverse * (p - ffd.box_origin);
+        let t = ffd.face_tol;
+        if u.iter().any(|&c| c < -t || c > 1.0 + t) {
+            return *p;
+        }
+        let u = u.map(|c| c.clamp(0.0, 1.0));
+        let choose = |n: usize, k: usize| (1..=k).fold(1.0, |a, i| a * (n + 1 - i) as f64 / i as f64);
+        let b = |deg: usize, i: usize, x: f64| choose(deg, i) * x.powi(i as i32) * (1.0 - x).powi((deg - i) as i32);
+        let mut acc = Vector3::zeros();
+        for i in 0..l {
+            for j in 0..m {
+                for k in 0..n {
+                    let w = b(l - 1, i, u.x) * b(m - 1, j, u.y) * b(n - 1, k, u.z);
+                    acc += w * Vector3::from(ffd.mu.get(i, j, k));
+                }
+            }
+        }
+        p + ffd.frame * acc
+    }
+
+    #[test]
+    fn vectorised_deform_matches_direct_bernstein_sum() {
+        let mut state = 0x9E37_79B9_7F4A_7C15;
+        // Shapes on the compile-time k paths (2..=8), beyond them, and past the binomial table.
+        for shape in [[2, 2, 2], [3, 3, 3], [6, 6, 6], [4, 3, 5], [3, 9, 7], [5, 2, 11], [2, 3, 34]] {
+            let mut ffd = Ffd::try_new(
+                shape,
+                Point3::new(-1.0, 2.0, 0.5),
+                Vector3::new(2.0, 1.5, 3.0),
+                Vector3::new(10.0, -25.0, 40.0),
+            )
+            .unwrap();
+            for f in 0..ffd.mu.len() {
+                ffd.mu.x[f] = 0.2 * uniform(&mut state) - 0.1;
+                ffd.mu.y[f] = 0.2 * uniform(&mut state) - 0.1;
+                ffd.mu.z[f] = 0.2 * uniform(&mut state) - 0.1;
+            }
+            // Points in and around the box (unit-box coordinates in [−0.2, 1.2]), some on
+            // faces and corners; more than one parallel chunk, and a ragged tail.
+            let mut pts: Vec<Point3<f64>> = (0..9001)
+                .map(|q| {
+                    let mut u = Vector3::from_fn(|_, _| 1.4 * uniform(&mut state) - 0.2);
+                    if q % 7 == 0 {
+                        u.x = (q % 2) as f64;
+                    }
+                    if q % 11 == 0 {
+                        u = Vector3::new(1.0, 0.0, 1.0);
+                    }
+                    ffd.box_origin + ffd.frame * u
+                })
+                .collect();
+            pts.push(ffd.box_origin);
+            let fast = ffd.deformed(&pts);
+            let (mut moved, mut stayed) = (0, 0);
+            for (p, q) in pts.iter().zip(&fast) {
+                let r = naive_deform(&ffd, p);
+                assert!((q - r).amax() <= 1e-12 * p.coords.amax().max(1.0), "{shape:?} at {p}: {q} vs {r}");
+                let one = ffd.deform_point(p);
+                assert!((q - one).amax() <= 1e-12 * p.coords.amax().max(1.0), "{shape:?} at {p}: {q} vs {one}");
+                if q == p {
+                    stayed += 1;
+                } else {
+                    moved += 1;
+                }
+            }
+            assert!(moved > 1000 && stayed > 1000, "{shape:?}: {moved} moved, {stayed} stayed");
         }
     }
 

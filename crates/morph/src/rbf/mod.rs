@@ -9,7 +9,7 @@ mod kernel;
 
 pub use kernel::{Kernel, DEFAULT_K};
 
-use faer::linalg::solvers::{PartialPivLu, Solve};
+use faer::linalg::solvers::{Lblt, Llt, Solve};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Mat, Side};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
@@ -69,7 +69,10 @@ pub enum Solver {
     /// [`SPARSE_MIN_CENTRES`] centres.
     #[default]
     Auto,
-    /// Dense LU with partial pivoting (faer) of the whole `(N+4)²` system.
+    /// Dense: the null-space method (four Householder reflections for the linear term and
+    /// a faer Cholesky factorisation of the `(N−4)²` projected kernel matrix), or
+    /// Bunch–Kaufman `LBLᵀ` (faer) of the whole symmetric `(N+4)²` system when the projected
+    /// matrix is not definite.
     Dense,
     /// Sparse Cholesky (faer, AMD ordering) of the kernel block and a 4×4 Schur complement
     /// for the linear term; compact kernels only.
@@ -104,7 +107,12 @@ impl Default for RbfOptions {
 /// The factorised interpolation system.
 #[derive(Debug, Clone)]
 enum System {
-    Dense(PartialPivLu<f64>),
+    /// Bunch–Kaufman `LBLᵀ` of the symmetric (indefinite) `(N+4)²` system.
+    Dense(Lblt<f64>),
+    /// The null-space method: `P = Q [R; 0]` (four Householder reflections), and a
+    /// Cholesky factor of `±Z ᵀΦZ`, `Z` the last `N − 4` columns of `Q` (see
+    /// [`Nullspace`]).
+    Nullspace(Box<Nullspace>),
     Sparse {
         llt: faer::sparse::linalg::solvers::Llt<usize, f64>,
         /// Φ⁻¹P (N×4).
@@ -137,7 +145,8 @@ enum System {
 /// which changes no value but keeps the system well conditioned for models far from the
 /// origin or in millimetres.
 ///
-/// Building solves the system once, densely (faer LU) for global kernels, or with a
+/// Building solves the system once, densely (null-space method with a Cholesky factor, see
+/// [`Solver::Dense`]) for global kernels, or with a
 /// sparse matrix for compactly supported ones (sparse Cholesky from [`SPARSE_MIN_CENTRES`],
 /// conjugate gradients from [`ITERATIVE_MIN_CENTRES`] centres, see [`Solver`]), and refuses a singular or ill-conditioned system
 /// ([`Error::SingularSystem`], [`Error::IllConditioned`]) with its condition estimate.
@@ -276,7 +285,7 @@ impl Rbf {
             beta: [[0.0; 4]; 3],
             shift,
             scale,
-            system: System::Dense(Mat::<f64>::identity(1, 1).partial_piv_lu()),
+            system: System::Dense(Mat::<f64>::identity(1, 1).lblt(Side::Lower)),
             condition: 1.0,
             tree,
             grid: kernel.support().map(|s| Grid::new(centres, s)),
@@ -324,7 +333,86 @@ impl Rbf {
         [1.0, q.x, q.y, q.z]
     }
 
+    /// Dense factorisation: the null-space method when `ZᵀΦZ` is definite (kernels that
+    /// are positive definite or conditionally definite of order ≤ 2, on distinct,
+    /// non-coplanar centres: all of PyGeM's except `polyharmonic_spline` with even k ≥ 4),
+    /// else Bunch–Kaufman on the whole system.
     fn factor_dense(&self) -> Result<(System, f64)> {
+        match self.factor_nullspace() {
+            Some(found) => Ok(found),
+            None => self.factor_kkt(),
+        }
+    }
+
+    /// The null-space method (Nocedal & Wright §16.2; for RBFs, e.g. Beatson, Light &
+    /// Billings 2000): with `P = Q [R; 0]` and `Q = [Y Z]`, the system
+    /// `[Φ P; Pᵀ 0] [γ; β] = [f; g]` becomes `γ = Y u₁ + Z u₂`, `Rᵀu₁ = g`,
+    /// `(ZᵀΦZ) u₂ = Zᵀf − ZᵀΦY u₁`, `Rβ = Yᵀ(f − Φγ)`. `ZᵀΦZ` is positive definite for
+    /// positive definite kernels and for conditionally positive definite ones of order ≤ 2
+    /// (thin plate r² ln r, r³), negative definite for the conditionally negative definite
+    /// ones of order 1 (multiquadric, r): a Cholesky factorisation of `±ZᵀΦZ`, `(N − 4)³/3` flops
+    /// against `(N + 4)³/3` for `LBLᵀ` with its pivoting and `2(N + 4)³/3` for LU.
+    /// `None` when neither sign factors (the caller falls back to `LBLᵀ`).
+    fn factor_nullspace(&self) -> Option<(System, f64)> {
+        let n = self.centres.len();
+        if n <= 4 {
+            return None;
+        }
+        let kernel = self.kernel;
+        let polys: Vec<[f64; 4]> = self.centres.iter().map(|p| self.poly_row(p)).collect();
+        let mut data = vec![0.0; n * n];
+        data.par_chunks_mut(n).enumerate().for_each(|(j, col)| {
+            let cj = self.centres[j];
+            for (i, v) in col.iter_mut().enumerate() {
+                *v = kernel.eval((self.centres[i] - cj).norm());
+            }
+        });
+        // ‖[Φ P; Pᵀ 0]‖₁ for the condition estimate.
+        let norm1_phi = data
+            .par_chunks(n)
+            .zip(polys.par_iter())
+            .map(|(c, p)| c.iter().map(|v| v.abs()).sum::<f64>() + p.iter().map(|v| v.abs()).sum::<f64>())
+            .reduce(|| 0.0, f64::max);
+        let norm1_p = (0..4).map(|a| polys.iter().map(|p| p[a].abs()).sum::<f64>()).fold(0.0, f64::max);
+        let norm1 = norm1_phi.max(norm1_p);
+        let house = Householder4::new(&polys)?;
+        for c in 0..4 {
+            house.reflect_both_sides(c, &mut data, n);
+        }
+        let b11 = Matrix4::from_fn(|i, j| data[j * n + i]);
+        let b21 = Mat::from_fn(n - 4, 4, |i, j| data[j * n + 4 + i]);
+        let mut sign = 1.0;
+        let llt = match faer::MatRef::from_column_major_slice_with_stride(&data[4 * n + 4..], n - 4, n - 4, n)
+            .llt(Side::Lower)
+        {
+            Ok(llt) => llt,
+            Err(_) => {
+                sign = -1.0;
+                data.par_chunks_mut(n).skip(4).for_each(|col| col[4..].iter_mut().for_each(|v| *v = -*v));
+                faer::MatRef::from_column_major_slice_with_stride(&data[4 * n + 4..], n - 4, n - 4, n)
+                    .llt(Side::Lower)
+                    .ok()?
+            }
+        };
+        drop(data);
+        let ns = Nullspace { house, b11, b21, llt, sign };
+        let size = n + 4;
+        let mut solve = |x: &mut [f64]| {
+            let mut m = Mat::from_fn(size, 1, |i, _| x[i]);
+            ns.solve_in_place(&mut m);
+            for (i, v) in x.iter_mut().enumerate() {
+                *v = m[(i, 0)];
+            }
+        };
+        // The system is symmetric: the transposed solve is the same solve.
+        let mut solve_t = solve;
+        let inv = condition::inverse_norm1(size, &mut solve, &mut solve_t);
+        Some((System::Nullspace(Box::new(ns)), norm1 * inv))
+    }
+
+    /// Bunch–Kaufman `LBLᵀ` of the whole `(N + 4)²` system (the fallback of
+    /// [`Rbf::factor_dense`]).
+    fn factor_kkt(&self) -> Result<(System, f64)> {
         let n = self.centres.len();
         let size = n + 4;
         let kernel = self.kernel;
@@ -344,15 +432,14 @@ impl Rbf {
             }
         });
         let norm1 = data.par_chunks(size).map(|c| c.iter().map(|v| v.abs()).sum::<f64>()).reduce(|| 0.0, f64::max);
-        let a = Mat::from_fn(size, size, |i, j| data[j * size + i]);
+        // The system is symmetric (indefinite with the polynomial block): Bunch–Kaufman
+        // LBLᵀ reads the lower triangle and costs half of an LU.
+        let lblt = faer::MatRef::from_column_major_slice(&data, size, size).lblt(Side::Lower);
         drop(data);
-        let lu = a.partial_piv_lu();
-        drop(a);
-        let inv =
-            condition::inverse_norm1(size, &mut |x: &mut [f64]| solve_vec(&lu, x, false), &mut |x: &mut [f64]| {
-                solve_vec(&lu, x, true)
-            });
-        Ok((System::Dense(lu), norm1 * inv))
+        let inv = condition::inverse_norm1(size, &mut |x: &mut [f64]| solve_vec(&lblt, x), &mut |x: &mut [f64]| {
+            solve_vec(&lblt, x)
+        });
+        Ok((System::Dense(lblt), norm1 * inv))
     }
 
     fn factor_sparse(&self) -> Result<(System, f64)> {
@@ -540,7 +627,8 @@ impl Rbf {
         let n = self.centres.len();
         let m = rhs.ncols();
         let (z, phi_inv_p, schur_inv) = match &self.system {
-            System::Dense(lu) => return lu.solve_in_place(rhs.as_mut()),
+            System::Dense(lblt) => return lblt.solve_in_place(rhs.as_mut()),
+            System::Nullspace(ns) => return ns.solve_in_place(rhs),
             System::Sparse { llt, phi_inv_p, schur_inv } => {
                 let mut z = Mat::from_fn(n, m, |i, j| rhs[(i, j)]);
                 llt.solve_in_place(z.as_mut());
@@ -713,19 +801,179 @@ impl Rbf {
     }
 }
 
+/// The factorised dense system of the null-space method (see `Rbf::factor_nullspace`):
+/// `B = QᵀΦQ` in blocks `B₁₁` (4×4), `B₂₁` ((N−4)×4) and the Cholesky factor of
+/// `sign · B₂₂`.
+#[derive(Debug, Clone)]
+struct Nullspace {
+    house: Householder4,
+    b11: Matrix4<f64>,
+    b21: Mat<f64>,
+    llt: Llt<f64>,
+    sign: f64,
+}
+
+impl Nullspace {
+    /// `[γ; β] ← [Φ P; Pᵀ 0]⁻¹ [f; g]` for every column of `rhs` ((N+4) rows).
+    fn solve_in_place(&self, rhs: &mut Mat<f64>) {
+        let n = self.house.n;
+        let m = rhs.ncols();
+        let mut u1 = Vec::with_capacity(m);
+        let mut qf = Vec::with_capacity(m);
+        // Right-hand sides of the (N−4)² system, all columns in one Cholesky solve.
+        let mut t = Mat::<f64>::zeros(n - 4, m);
+        for col in 0..m {
+            let mut f: Vec<f64> = (0..n).map(|i| rhs[(i, col)]).collect();
+            self.house.apply_qt(&mut f);
+            let g = nalgebra::Vector4::from_fn(|a, _| rhs[(n + a, col)]);
+            let u = self.house.solve_rt(&g);
+            for i in 0..n - 4 {
+                let b = (0..4).map(|a| self.b21[(i, a)] * u[a]).sum::<f64>();
+                t[(i, col)] = self.sign * (f[4 + i] - b);
+            }
+            u1.push(u);
+            qf.push(f);
+        }
+        self.llt.solve_in_place(t.as_mut());
+        for col in 0..m {
+            let (u, mut f) = (u1[col], std::mem::take(&mut qf[col]));
+            // Rβ = (Qᵀf)₁ − B₁₁u₁ − B₂₁ᵀu₂
+            let mut top = nalgebra::Vector4::from_fn(|a, _| f[a]) - self.b11 * u;
+            for a in 0..4 {
+                top[a] -= (0..n - 4).map(|i| self.b21[(i, a)] * t[(i, col)]).sum::<f64>();
+            }
+            let beta = self.house.solve_r(&top);
+            // γ = Q [u₁; u₂]
+            f[..4].copy_from_slice(u.as_slice());
+            for i in 0..n - 4 {
+                f[4 + i] = t[(i, col)];
+            }
+            self.house.apply_q(&mut f);
+            for (i, v) in f.iter().enumerate() {
+                rhs[(i, col)] = *v;
+            }
+            for a in 0..4 {
+                rhs[(n + a, col)] = beta[a];
+            }
+        }
+    }
+}
+
+/// Householder QR of an N×4 matrix: `P = H₀H₁H₂H₃ [R; 0]`, `Hc = I − τc vc vcᵀ`, with
+/// `vc` zero above row c.
+#[derive(Debug, Clone)]
+struct Householder4 {
+    n: usize,
+    v: [Vec<f64>; 4],
+    tau: [f64; 4],
+    r: Matrix4<f64>,
+}
+
+impl Householder4 {
+    /// The QR factorisation of the rows `p`, or `None` when P has rank below 4 (all
+    /// centres in one plane).
+    fn new(p: &[[f64; 4]]) -> Option<Householder4> {
+        let n = p.len();
+        let mut a: Vec<Vec<f64>> = (0..4).map(|c| p.iter().map(|row| row[c]).collect()).collect();
+        let mut v: [Vec<f64>; 4] = Default::default();
+        let mut tau = [0.0; 4];
+        let mut r = Matrix4::zeros();
+        let scale = a.iter().map(|col| col.iter().fold(0.0, |m: f64, x| m.max(x.abs()))).fold(0.0, f64::max);
+        for c in 0..4 {
+            let x = &a[c][c..];
+            let norm = x.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if norm.is_nan() || norm <= 1e-13 * scale * (n as f64).sqrt() {
+                return None;
+            }
+            let alpha = if x[0] > 0.0 { -norm } else { norm };
+            let mut vc = vec![0.0; n];
+            vc[c..].copy_from_slice(x);
+            vc[c] -= alpha;
+            let vv = vc[c..].iter().map(|x| x * x).sum::<f64>();
+            tau[c] = 2.0 / vv;
+            for col in a.iter_mut().skip(c) {
+                let d = tau[c] * vc[c..].iter().zip(&col[c..]).map(|(x, y)| x * y).sum::<f64>();
+                for (y, x) in col[c..].iter_mut().zip(&vc[c..]) {
+                    *y -= d * x;
+                }
+            }
+            for (row, col) in a.iter().enumerate().take(4).skip(c) {
+                r[(c, row)] = col[c];
+            }
+            v[c] = vc;
+        }
+        Some(Householder4 { n, v, tau, r })
+    }
+
+    /// `A ← Hc A Hc` for a symmetric N×N column-major `A` (both triangles kept).
+    fn reflect_both_sides(&self, c: usize, a: &mut [f64], n: usize) {
+        let (v, tau) = (&self.v[c], self.tau[c]);
+        // p = τ A v (A symmetric: column j dotted with v), w = p − (τ/2)(pᵀv) v.
+        let p: Vec<f64> =
+            a.par_chunks(n).map(|col| tau * col[c..].iter().zip(&v[c..]).map(|(x, y)| x * y).sum::<f64>()).collect();
+        let k = 0.5 * tau * p.iter().zip(v).map(|(x, y)| x * y).sum::<f64>();
+        let w: Vec<f64> = p.iter().zip(v).map(|(p, v)| p - k * v).collect();
+        // A ← A − v wᵀ − w vᵀ
+        a.par_chunks_mut(n).enumerate().for_each(|(j, col)| {
+            let (vj, wj) = (v[j], w[j]);
+            for ((x, vi), wi) in col.iter_mut().zip(v).zip(&w) {
+                *x -= vi * wj + wi * vj;
+            }
+        });
+    }
+
+    /// `x ← Qᵀx = H₃H₂H₁H₀ x`.
+    fn apply_qt(&self, x: &mut [f64]) {
+        for c in 0..4 {
+            self.reflect(c, x);
+        }
+    }
+
+    /// `x ← Qx = H₀H₁H₂H₃ x`.
+    fn apply_q(&self, x: &mut [f64]) {
+        for c in (0..4).rev() {
+            self.reflect(c, x);
+        }
+    }
+
+    fn reflect(&self, c: usize, x: &mut [f64]) {
+        let v = &self.v[c][c..];
+        let d = self.tau[c] * v.iter().zip(&x[c..]).map(|(a, b)| a * b).sum::<f64>();
+        for (y, a) in x[c..].iter_mut().zip(v) {
+            *y -= d * a;
+        }
+    }
+
+    /// `R⁻ᵀ g` (forward substitution).
+    fn solve_rt(&self, g: &nalgebra::Vector4<f64>) -> nalgebra::Vector4<f64> {
+        let mut u = nalgebra::Vector4::zeros();
+        for i in 0..4 {
+            let s = (0..i).map(|k| self.r[(k, i)] * u[k]).sum::<f64>();
+            u[i] = (g[i] - s) / self.r[(i, i)];
+        }
+        u
+    }
+
+    /// `R⁻¹ b` (back substitution).
+    fn solve_r(&self, b: &nalgebra::Vector4<f64>) -> nalgebra::Vector4<f64> {
+        let mut x = nalgebra::Vector4::zeros();
+        for i in (0..4).rev() {
+            let s = (i + 1..4).map(|k| self.r[(i, k)] * x[k]).sum::<f64>();
+            x[i] = (b[i] - s) / self.r[(i, i)];
+        }
+        x
+    }
+}
+
 /// Iteration limit of the conjugate gradients for `n` centres.
 fn cg_max_iter(n: usize) -> usize {
     (3 * n).clamp(1000, 20_000)
 }
 
-/// `x ← A⁻¹x` (or `A⁻ᵀx`) with a dense LU.
-fn solve_vec(lu: &PartialPivLu<f64>, x: &mut [f64], transpose: bool) {
+/// `x ← A⁻¹x` with the dense `LBLᵀ` factors (A is symmetric, so also `A⁻ᵀx`).
+fn solve_vec(lblt: &Lblt<f64>, x: &mut [f64]) {
     let mut m = Mat::from_fn(x.len(), 1, |i, _| x[i]);
-    if transpose {
-        lu.solve_transpose_in_place(m.as_mut());
-    } else {
-        lu.solve_in_place(m.as_mut());
-    }
+    lblt.solve_in_place(m.as_mut());
     for (i, v) in x.iter_mut().enumerate() {
         *v = m[(i, 0)];
     }
@@ -839,5 +1087,66 @@ impl LinearInParameters for Rbf {
         self.solve_kkt(&mut rhs);
         let weights = (0..n).map(|j| (j, rhs[(j, 0)])).filter(|&(_, w)| w != 0.0).collect();
         ParamWeights { n_nodes: n, weights, frame: Matrix3::identity() }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Solve `[Φ P; Pᵀ 0] x = b` with the given factorisation.
+    fn solve(system: &System, b: &Mat<f64>) -> Mat<f64> {
+        let mut x = b.clone();
+        match system {
+            System::Dense(lblt) => lblt.solve_in_place(x.as_mut()),
+            System::Nullspace(ns) => ns.solve_in_place(&mut x),
+            _ => unreachable!("dense systems only"),
+        }
+        x
+    }
+
+    #[test]
+    fn nullspace_method_agrees_with_bunch_kaufman() {
+        let mut state = 0x1234_5678_9ABC_DEF1u64;
+        let mut uniform = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let centres: Vec<Point3<f64>> = (0..150).map(|_| Point3::new(uniform(), uniform(), 3.0 * uniform())).collect();
+        let moves: Vec<Vector3<f64>> = (0..150).map(|_| Vector3::new(uniform(), uniform(), uniform()) * 0.1).collect();
+        // Positive definite, conditionally positive definite of order ≤ 2 (ZᵀΦZ positive
+        // definite) and conditionally negative definite of order 1 (ZᵀΦZ negative definite).
+        for kernel in [
+            Kernel::ThinPlate { radius: 0.5, k: 2 },
+            Kernel::Polyharmonic { radius: 1.0, k: 3 },
+            Kernel::Polyharmonic { radius: 1.0, k: 1 },
+            Kernel::MultiQuadratic { radius: 0.1 },
+            Kernel::Gaussian { radius: 0.1 },
+            Kernel::WendlandC2 { support: 0.8 },
+        ] {
+            let rbf = Rbf::try_new(&centres, &moves, kernel).unwrap();
+            assert!(matches!(rbf.system, System::Nullspace(_)), "{kernel:?}: fell back");
+            let (ns, cond_ns) = rbf.factor_nullspace().unwrap();
+            let (kkt, cond_kkt) = rbf.factor_kkt().unwrap();
+            let n = centres.len();
+            let b = Mat::from_fn(n + 4, 2, |i, j| if i < n { uniform() - 0.5 } else { (j as f64) * uniform() });
+            let (x, y) = (solve(&ns, &b), solve(&kkt, &b));
+            let scale = (0..n + 4).map(|i| y[(i, 0)].abs().max(y[(i, 1)].abs())).fold(0.0, f64::max);
+            for i in 0..n + 4 {
+                for j in 0..2 {
+                    let d = (x[(i, j)] - y[(i, j)]).abs();
+                    assert!(d <= 1e-13 * cond_kkt * scale, "{kernel:?}: x[{i},{j}] {} vs {}", x[(i, j)], y[(i, j)]);
+                }
+            }
+            // Both estimate the same condition number (estimates, so within a factor).
+            assert!(cond_ns < 3.0 * cond_kkt && cond_kkt < 3.0 * cond_ns, "{kernel:?}: {cond_ns:e} vs {cond_kkt:e}");
+        }
+        // r⁴ ln r is conditionally definite of order 3 only: ZᵀΦZ is indefinite with a
+        // linear term, so the build falls back to Bunch–Kaufman on the whole system.
+        let rbf = Rbf::try_new(&centres, &moves, Kernel::Polyharmonic { radius: 1.0, k: 4 }).unwrap();
+        assert!(matches!(rbf.system, System::Dense(_)));
+        assert!(rbf.factor_nullspace().is_none());
     }
 }
