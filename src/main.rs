@@ -15,6 +15,37 @@ use cadmorph::refdata::read_faces;
 use cadmorph::seam::SeamRefineOptions;
 use clap::{Args, Parser, Subcommand};
 
+/// `println!` that ends the program quietly when standard output has been closed (output
+/// piped into `head`), where the standard macro panics.
+macro_rules! println {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout().lock(), $($t)*) {
+            closed_stdout(e)
+        }
+    }};
+}
+
+/// `print!` with [`println!`]'s handling of a closed standard output.
+macro_rules! print {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = write!(std::io::stdout().lock(), $($t)*) {
+            closed_stdout(e)
+        }
+    }};
+}
+
+/// A reader that stopped reading (a closed pipe) ends the run successfully; any other
+/// failure to write the output is an error.
+fn closed_stdout(e: std::io::Error) -> ! {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        std::process::exit(0)
+    }
+    eprintln!("cadmorph: writing the output: {e}");
+    std::process::exit(1)
+}
+
 #[derive(Parser)]
 #[command(name = "cadmorph", version, about = "CAD/NURBS kernel and IGES/STEP processor for shape parameterisation")]
 struct Cli {

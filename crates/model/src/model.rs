@@ -799,8 +799,15 @@ fn follow_face(
     }
     // The image bends where the curve crosses a knot line of the morphed face: break the
     // fit there.
-    let uv = |t: f64| {
+    // Parameters on the face, each search started from a nearby known answer.
+    let uv = |t: f64, near: Option<(f64, f64)>| {
         let p = c.eval(t);
+        if let Some(start) = near {
+            let local = before.project_from(&p, start, ptol);
+            if local.distance_sq.sqrt() <= 1e-6 * size {
+                return (local.u, local.v);
+            }
+        }
         let pr = before.project(&p, ptol);
         (pr.u, pr.v)
     };
@@ -808,19 +815,27 @@ fn follow_face(
         (after.u_knots().find_span(after.u_degree(), u), after.v_knots().find_span(after.v_degree(), v))
     };
     let crossings = after.u_knots().len() + after.v_knots().len();
-    let m = (16 * crossings).clamp(64, 4096);
+    let m = (8 * crossings).clamp(32, 1024);
     let ts: Vec<f64> = (0..=m).map(|k| t0 + (t1 - t0) * k as f64 / m as f64).collect();
-    let cells: Vec<(usize, usize)> = ts.iter().map(|&t| spans(uv(t))).collect();
+    let mut uvs: Vec<(f64, f64)> = Vec::with_capacity(ts.len());
+    for &t in &ts {
+        let near = uvs.last().copied();
+        uvs.push(uv(t, near));
+    }
     let mut breaks = Vec::new();
     for k in 0..m {
-        if cells[k] == cells[k + 1] {
+        let cell = spans(uvs[k]);
+        if cell == spans(uvs[k + 1]) {
             continue;
         }
         let (mut lo, mut hi) = (ts[k], ts[k + 1]);
+        let mut near = uvs[k];
         for _ in 0..40 {
             let mid = 0.5 * (lo + hi);
-            if spans(uv(mid)) == cells[k] {
+            let at = uv(mid, Some(near));
+            if spans(at) == cell {
                 lo = mid;
+                near = at;
             } else {
                 hi = mid;
             }
