@@ -16,7 +16,7 @@ use cadmorph_seam::{
 use cadmorph_step as step;
 use serde::Serialize;
 
-use crate::topology::{iges_edges, iges_reversed_faces, step_edges, step_face_patches};
+use crate::topology::{iges_edges, iges_face_bounds, iges_reversed_faces, step_edges, step_face_patches, FaceBound};
 use crate::{Error, Result};
 
 /// The file format a model came from.
@@ -247,8 +247,8 @@ impl Model {
         let tol = edge_tol(&patches);
         let refs: Vec<&NurbsSurface> = patches.iter().map(|p| &p.surface).collect();
         let iso = shared_boundaries(&refs, tol, 64, 0.9);
-        let surfaces: Vec<NurbsSurface> = patches.iter().map(|p| p.surface.clone()).collect();
-        let trims = trims.into_iter().filter(|t| !iso.iter().any(|e| t.lies_on(e, &surfaces, tol))).collect();
+        let trims =
+            trims.into_iter().filter(|t| !iso.iter().any(|e| t.lies_on(e, &patches[e.a.patch].surface, tol))).collect();
         Self { doc, patches, skipped, unit, iso, trims }
     }
 
@@ -712,45 +712,19 @@ fn write_iges(
 /// loops of 510 faces; composite curves (102) give their members.
 fn face_curves(doc: &iges::Document, patches: &[Patch]) -> Vec<(iges::EntityId, usize)> {
     let mut out = Vec::new();
-    let push = |id: iges::EntityId, patch: usize, out: &mut Vec<(iges::EntityId, usize)>| match doc.view(id) {
-        Ok(iges::View::CompositeCurve(c)) => out.extend(c.curves.into_iter().map(|m| (m, patch))),
-        _ => out.push((id, patch)),
-    };
-    for (pi, p) in patches.iter().enumerate() {
-        let Source::Iges { face, .. } = p.source else { continue };
-        match doc.view(iges::EntityId(face)) {
-            Ok(iges::View::TrimmedSurface(t)) => {
-                for b in t.outer.into_iter().chain(t.inner) {
-                    if let Ok(iges::View::CurveOnSurface(c)) = doc.view(b) {
-                        if let Some(m) = c.model_curve {
-                            push(m, pi, &mut out);
-                        }
-                    }
-                }
+    for (pi, bound) in iges_face_bounds(doc, patches) {
+        let curve = match bound {
+            FaceBound::Trim { curve, .. } => curve,
+            FaceBound::Edge { list, index } => {
+                let Ok(iges::View::EdgeList(el)) = doc.view(list) else { continue };
+                let edge = usize::try_from(index).ok().and_then(|k| k.checked_sub(1)).and_then(|k| el.edges.get(k));
+                let Some(edge) = edge else { continue };
+                edge.curve
             }
-            Ok(iges::View::BoundedSurface(bs)) => {
-                for b in bs.boundaries {
-                    if let Ok(iges::View::Boundary(bd)) = doc.view(b) {
-                        for bc in bd.curves {
-                            push(bc.curve, pi, &mut out);
-                        }
-                    }
-                }
-            }
-            Ok(iges::View::Face(f)) => {
-                for lp in f.loops {
-                    let Ok(iges::View::Loop(l)) = doc.view(lp) else { continue };
-                    for le in l.edges.iter().filter(|le| le.kind == 0) {
-                        let Ok(iges::View::EdgeList(el)) = doc.view(le.list) else { continue };
-                        let edge =
-                            usize::try_from(le.index).ok().and_then(|k| k.checked_sub(1)).and_then(|k| el.edges.get(k));
-                        if let Some(edge) = edge {
-                            push(edge.curve, pi, &mut out);
-                        }
-                    }
-                }
-            }
-            _ => {}
+        };
+        match doc.view(curve) {
+            Ok(iges::View::CompositeCurve(c)) => out.extend(c.curves.into_iter().map(|m| (m, pi))),
+            _ => out.push((curve, pi)),
         }
     }
     out

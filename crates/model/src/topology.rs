@@ -116,13 +116,19 @@ fn edge_range(curve: &NurbsCurve, start: Option<[f64; 3]>, end: Option<[f64; 3]>
     (ps.t.min(pe.t), ps.t.max(pe.t))
 }
 
-/// IGES shared edges: edges of 504 lists used by the 508 loops of two 510 faces, and
-/// trimming curves (142 model-space curves of 144 faces, 141 boundaries of 143 faces)
-/// of different faces that lie on each other within `tol`.
-pub(crate) fn iges_edges(doc: &iges::Document, patches: &[Patch], tol: f64) -> Vec<TrimEdge> {
+/// What bounds an IGES face: a model-space trimming curve (of a 142 under a 144, or of a
+/// 141 under a 143), or an edge of a 504 list that a 508 loop of a 510 face uses.
+pub(crate) enum FaceBound {
+    /// A trimming curve and the entity that names it in reports (the 142, or the curve).
+    Trim { curve: iges::EntityId, label: iges::EntityId },
+    /// Edge `index` (1-based) of 504 list `list`.
+    Edge { list: iges::EntityId, index: i64 },
+}
+
+/// Every bound of every IGES face among `patches`, with the patch's index. A 144 whose
+/// outer boundary is its surface's domain contributes only its inner ones.
+pub(crate) fn iges_face_bounds(doc: &iges::Document, patches: &[Patch]) -> Vec<(usize, FaceBound)> {
     let mut out = Vec::new();
-    let mut uses: BTreeMap<(u32, i64), Vec<usize>> = BTreeMap::new();
-    let mut trims: Vec<TrimCurve> = Vec::new();
     for (pi, p) in patches.iter().enumerate() {
         let Source::Iges { face, .. } = p.source else { continue };
         match doc.view(iges::EntityId(face)) {
@@ -130,17 +136,16 @@ pub(crate) fn iges_edges(doc: &iges::Document, patches: &[Patch], tol: f64) -> V
                 for lp in f.loops {
                     if let Ok(iges::View::Loop(l)) = doc.view(lp) {
                         for le in l.edges.iter().filter(|le| le.kind == 0) {
-                            uses.entry((le.list.0, le.index)).or_default().push(pi);
+                            out.push((pi, FaceBound::Edge { list: le.list, index: le.index }));
                         }
                     }
                 }
             }
             Ok(iges::View::TrimmedSurface(t)) => {
-                let bounds = t.outer.filter(|_| !t.outer_is_domain).into_iter().chain(t.inner);
-                for b in bounds {
+                for b in t.outer.filter(|_| !t.outer_is_domain).into_iter().chain(t.inner) {
                     if let Ok(iges::View::CurveOnSurface(c)) = doc.view(b) {
-                        for curve in c.model_curve.map(|m| pieces(doc, m)).unwrap_or_default() {
-                            trims.push(TrimCurve { patch: pi, curve, label: Some(format!("DE {}", b.0)) });
+                        if let Some(curve) = c.model_curve {
+                            out.push((pi, FaceBound::Trim { curve, label: b }));
                         }
                     }
                 }
@@ -149,14 +154,32 @@ pub(crate) fn iges_edges(doc: &iges::Document, patches: &[Patch], tol: f64) -> V
                 for b in bs.boundaries {
                     if let Ok(iges::View::Boundary(bd)) = doc.view(b) {
                         for bc in bd.curves {
-                            for curve in pieces(doc, bc.curve) {
-                                trims.push(TrimCurve { patch: pi, curve, label: Some(format!("DE {}", bc.curve.0)) });
-                            }
+                            out.push((pi, FaceBound::Trim { curve: bc.curve, label: bc.curve }));
                         }
                     }
                 }
             }
             _ => {}
+        }
+    }
+    out
+}
+
+/// IGES shared edges: edges of 504 lists used by the 508 loops of two 510 faces, and
+/// trimming curves (142 model-space curves of 144 faces, 141 boundaries of 143 faces)
+/// of different faces that lie on each other within `tol`.
+pub(crate) fn iges_edges(doc: &iges::Document, patches: &[Patch], tol: f64) -> Vec<TrimEdge> {
+    let mut out = Vec::new();
+    let mut uses: BTreeMap<(u32, i64), Vec<usize>> = BTreeMap::new();
+    let mut trims: Vec<TrimCurve> = Vec::new();
+    for (pi, bound) in iges_face_bounds(doc, patches) {
+        match bound {
+            FaceBound::Edge { list, index } => uses.entry((list.0, index)).or_default().push(pi),
+            FaceBound::Trim { curve, label } => {
+                for c in pieces(doc, curve) {
+                    trims.push(TrimCurve { patch: pi, curve: c, label: Some(format!("DE {}", label.0)) });
+                }
+            }
         }
     }
     let mut vertices: HashMap<u32, Vec<[f64; 3]>> = HashMap::new();

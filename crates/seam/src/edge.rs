@@ -86,13 +86,13 @@ impl TrimEdge {
 
     /// Whether this edge is `iso` seen from its curve: the same two patches, and the
     /// edge's quarter, middle and three-quarter points lie within `tol` of the iso
-    /// edge's first side.
-    pub fn lies_on(&self, iso: &SharedBoundary, patches: &[NurbsSurface], tol: f64) -> bool {
+    /// edge's first side (on `first`, the surface of patch `iso.a.patch`).
+    pub fn lies_on(&self, iso: &SharedBoundary, first: &NurbsSurface, tol: f64) -> bool {
         let same = (iso.a.patch, iso.b.patch) == (self.a, self.b) || (iso.a.patch, iso.b.patch) == (self.b, self.a);
         if !same {
             return false;
         }
-        let side = patches[iso.a.patch].boundary(iso.a.side);
+        let side = first.boundary(iso.a.side);
         let (lo, hi) = (iso.a_range.0.min(iso.a_range.1), iso.a_range.0.max(iso.a_range.1));
         let slack = 1e-6 * (hi - lo).abs().max(f64::MIN_POSITIVE);
         [0.25, 0.5, 0.75].iter().all(|f| {
