@@ -18,7 +18,7 @@ use rayon::prelude::*;
 
 use crate::deformation::{check_params, ParamWeights, PARALLEL_MIN_POINTS};
 use crate::{Deformation, Error, LinearInParameters, Result};
-use eval::{Centres, LANES};
+use eval::Centres;
 use grid::Grid;
 
 /// Default limit on the interpolation miss at the control points, relative to the largest
@@ -362,10 +362,7 @@ impl Rbf {
         let polys: Vec<[f64; 4]> = self.centres.iter().map(|p| self.poly_row(p)).collect();
         let mut data = vec![0.0; n * n];
         data.par_chunks_mut(n).enumerate().for_each(|(j, col)| {
-            let cj = self.centres[j];
-            for (i, v) in col.iter_mut().enumerate() {
-                *v = kernel.eval((self.centres[i] - cj).norm());
-            }
+            eval::kernel_column(&kernel, &self.soa, self.centres[j], col);
         });
         // ‖[Φ P; Pᵀ 0]‖₁ for the condition estimate.
         let norm1_phi = data
@@ -420,10 +417,7 @@ impl Rbf {
         let mut data = vec![0.0; size * size];
         data.par_chunks_mut(size).enumerate().for_each(|(j, col)| {
             if j < n {
-                let cj = self.centres[j];
-                for i in 0..n {
-                    col[i] = kernel.eval((self.centres[i] - cj).norm());
-                }
+                eval::kernel_column(&kernel, &self.soa, self.centres[j], &mut col[..n]);
                 col[n..].copy_from_slice(&polys[j]);
             } else {
                 for i in 0..n {
@@ -775,28 +769,13 @@ impl Rbf {
 
     /// Deform `points` on the calling thread.
     fn deform_serial(&self, points: &mut [Point3<f64>]) {
-        if let Some(grid) = &self.grid {
-            let mut sums = vec![[0.0; 3]; points.len()];
-            eval::grid_sums(&self.kernel, grid, points, &mut sums);
-            for (p, s) in points.iter_mut().zip(sums) {
-                *p += self.linear_term(p) + Vector3::from(s);
-            }
-            return;
+        let mut sums = vec![[0.0; 3]; points.len()];
+        match &self.grid {
+            Some(grid) => eval::grid_sums(&self.kernel, grid, points, &mut sums),
+            None => eval::dense_sums(&self.kernel, &self.soa, points, &mut sums),
         }
-        for block in points.chunks_mut(LANES) {
-            let mut px = [0.0; LANES];
-            let mut py = [0.0; LANES];
-            let mut pz = [0.0; LANES];
-            for (lane, p) in block.iter().enumerate() {
-                px[lane] = p.x;
-                py[lane] = p.y;
-                pz[lane] = p.z;
-            }
-            let sums = eval::dense_sums(&self.kernel, &self.soa, &px, &py, &pz);
-            for (lane, p) in block.iter_mut().enumerate() {
-                let d = self.linear_term(p) + Vector3::new(sums[0][lane], sums[1][lane], sums[2][lane]);
-                *p += d;
-            }
+        for (p, s) in points.iter_mut().zip(sums) {
+            *p += self.linear_term(p) + Vector3::from(s);
         }
     }
 }
@@ -1010,7 +989,7 @@ impl Deformation for Rbf {
 
     fn deform(&self, points: &mut [Point3<f64>]) {
         // One point costs Nc kernel evaluations (global) or a tree query, so split finely.
-        let chunk = if self.tree.is_some() { 256 } else { (1 << 16) / self.centres.len().max(1) }.clamp(LANES, 4096);
+        let chunk = if self.tree.is_some() { 256 } else { (1 << 16) / self.centres.len().max(1) }.clamp(16, 4096);
         if points.len() >= PARALLEL_MIN_POINTS.min(4 * chunk) {
             points.par_chunks_mut(chunk).for_each(|c| self.deform_serial(c));
         } else {
