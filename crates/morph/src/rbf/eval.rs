@@ -1,9 +1,10 @@
 //! Vectorised sums `Σⱼ γⱼ φ(‖x − cⱼ‖)` over all centres for a block of points.
 //!
-//! Each kernel is written as a function of the squared distance so that no square root is
-//! taken where none is needed, and the thin-plate logarithm uses [`ln_fast`], which the
-//! compiler vectorises (the C library's `log` is a scalar call). The loops run inside
-//! `pulp::Arch::dispatch`, which compiles them for AVX2/FMA when the CPU has them.
+//! Each kernel is written as a function of the squared distance ([`Phi`]) so that no square
+//! root is taken where none is needed, and the thin-plate logarithm uses [`ln_minus`], a
+//! branch-free `ln` that the compiler vectorises (the C library's `log` is a scalar call).
+//! The loops run inside `pulp::Arch::dispatch`, which compiles them for AVX2/FMA when the
+//! CPU has them.
 
 use nalgebra::Point3;
 
@@ -12,11 +13,12 @@ use super::Kernel;
 
 /// Centres taken together by the dense sums (one SIMD lane each: two AVX2 vectors).
 /// The sums run across the centres for one point at a time, so a point's coordinates and
-/// its three accumulators stay in registers and the centres stream from cache; measured on
-/// the AMD EPYC bench machine (thin plate, 1000 centres), this layout costs 0.19 s per 10⁸
-/// pairs against 0.26 s for sixteen points per centre, whose registers spill. Four lanes
-/// leave too little independent work for the long logarithm chain (0.26 s), sixteen
-/// spill again (0.23 s).
+/// its accumulators stay in registers and the centres stream from cache. Measured on the
+/// AMD EPYC bench machine (thin plate, 1000 centres, one core), this layout costs 0.19 s
+/// per 10⁸ pairs against 0.26 s for the previous sixteen points per centre, which spilled
+/// most of its registers. Four lanes leave too little independent work for the long
+/// logarithm chain (0.26 s), sixteen spill again (0.23 s). The thin-plate loop written out
+/// in AVX2 intrinsics was no faster (0.75 against 0.70 s per 4·10⁸ pairs) and was not kept.
 const CW: usize = 8;
 
 /// Centres and weights in structure-of-arrays form.

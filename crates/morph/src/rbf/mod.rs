@@ -9,7 +9,7 @@ mod kernel;
 
 pub use kernel::{Kernel, DEFAULT_K};
 
-use faer::linalg::solvers::{Lblt, Llt, Solve};
+use faer::linalg::solvers::{Lblt, Solve};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Mat, Side};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
@@ -358,53 +358,70 @@ impl Rbf {
         if n <= 4 {
             return None;
         }
-        let kernel = self.kernel;
         let polys: Vec<[f64; 4]> = self.centres.iter().map(|p| self.poly_row(p)).collect();
+        let house = Householder4::new(&polys)?;
+        // The sign that makes ±ZᵀΦZ definite, by the kernel's theory; the other is tried
+        // second (the factorisation overwrites the matrix, so a failed try costs a new
+        // assembly).
+        let first = match self.kernel {
+            Kernel::MultiQuadratic { .. } | Kernel::Polyharmonic { k: 1, .. } => -1.0,
+            _ => 1.0,
+        };
+        for sign in [first, -first] {
+            let (mut data, norm1) = self.projected_matrix(&polys, &house);
+            let b11 = Matrix4::from_fn(|i, j| data[j * n + i]);
+            let b21 = Mat::from_fn(n - 4, 4, |i, j| data[j * n + 4 + i]);
+            if sign < 0.0 {
+                data.par_chunks_mut(n).skip(4).for_each(|col| col[4..].iter_mut().for_each(|v| *v = -*v));
+            }
+            // Cholesky in place, in the lower triangle of the trailing block (no second N²
+            // copy: 4000 centres take 150 MB instead of 276).
+            let par = faer::get_global_parallelism();
+            let mut mem = faer::dyn_stack::MemBuffer::new(
+                faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch::<f64>(n - 4, par, Default::default()),
+            );
+            let factored = faer::linalg::cholesky::llt::factor::cholesky_in_place(
+                faer::MatMut::from_column_major_slice_with_stride_mut(&mut data[4 * n + 4..], n - 4, n - 4, n),
+                Default::default(),
+                par,
+                faer::dyn_stack::MemStack::new(&mut mem),
+                Default::default(),
+            );
+            if factored.is_err() {
+                continue;
+            }
+            let ns = Nullspace { house, b11, b21, factor: data, sign };
+            let size = n + 4;
+            let mut solve = |x: &mut [f64]| {
+                let mut m = Mat::from_fn(size, 1, |i, _| x[i]);
+                ns.solve_in_place(&mut m);
+                for (i, v) in x.iter_mut().enumerate() {
+                    *v = m[(i, 0)];
+                }
+            };
+            // The system is symmetric: the transposed solve is the same solve.
+            let mut solve_t = solve;
+            let inv = condition::inverse_norm1(size, &mut solve, &mut solve_t);
+            return Some((System::Nullspace(Box::new(ns)), norm1 * inv));
+        }
+        None
+    }
+
+    /// `QᵀΦQ` (N×N, column-major) and `‖[Φ P; Pᵀ 0]‖₁` for the condition estimate.
+    fn projected_matrix(&self, polys: &[[f64; 4]], house: &Householder4) -> (Vec<f64>, f64) {
+        let n = self.centres.len();
         let mut data = vec![0.0; n * n];
         data.par_chunks_mut(n).enumerate().for_each(|(j, col)| {
-            eval::kernel_column(&kernel, &self.soa, self.centres[j], col);
+            eval::kernel_column(&self.kernel, &self.soa, self.centres[j], col);
         });
-        // ‖[Φ P; Pᵀ 0]‖₁ for the condition estimate.
         let norm1_phi = data
             .par_chunks(n)
             .zip(polys.par_iter())
             .map(|(c, p)| c.iter().map(|v| v.abs()).sum::<f64>() + p.iter().map(|v| v.abs()).sum::<f64>())
             .reduce(|| 0.0, f64::max);
         let norm1_p = (0..4).map(|a| polys.iter().map(|p| p[a].abs()).sum::<f64>()).fold(0.0, f64::max);
-        let norm1 = norm1_phi.max(norm1_p);
-        let house = Householder4::new(&polys)?;
-        for c in 0..4 {
-            house.reflect_both_sides(c, &mut data, n);
-        }
-        let b11 = Matrix4::from_fn(|i, j| data[j * n + i]);
-        let b21 = Mat::from_fn(n - 4, 4, |i, j| data[j * n + 4 + i]);
-        let mut sign = 1.0;
-        let llt = match faer::MatRef::from_column_major_slice_with_stride(&data[4 * n + 4..], n - 4, n - 4, n)
-            .llt(Side::Lower)
-        {
-            Ok(llt) => llt,
-            Err(_) => {
-                sign = -1.0;
-                data.par_chunks_mut(n).skip(4).for_each(|col| col[4..].iter_mut().for_each(|v| *v = -*v));
-                faer::MatRef::from_column_major_slice_with_stride(&data[4 * n + 4..], n - 4, n - 4, n)
-                    .llt(Side::Lower)
-                    .ok()?
-            }
-        };
-        drop(data);
-        let ns = Nullspace { house, b11, b21, llt, sign };
-        let size = n + 4;
-        let mut solve = |x: &mut [f64]| {
-            let mut m = Mat::from_fn(size, 1, |i, _| x[i]);
-            ns.solve_in_place(&mut m);
-            for (i, v) in x.iter_mut().enumerate() {
-                *v = m[(i, 0)];
-            }
-        };
-        // The system is symmetric: the transposed solve is the same solve.
-        let mut solve_t = solve;
-        let inv = condition::inverse_norm1(size, &mut solve, &mut solve_t);
-        Some((System::Nullspace(Box::new(ns)), norm1 * inv))
+        house.project_both_sides(&mut data, n);
+        (data, norm1_phi.max(norm1_p))
     }
 
     /// Bunch–Kaufman `LBLᵀ` of the whole `(N + 4)²` system (the fallback of
@@ -781,14 +798,15 @@ impl Rbf {
 }
 
 /// The factorised dense system of the null-space method (see `Rbf::factor_nullspace`):
-/// `B = QᵀΦQ` in blocks `B₁₁` (4×4), `B₂₁` ((N−4)×4) and the Cholesky factor of
-/// `sign · B₂₂`.
+/// `B = QᵀΦQ` in blocks `B₁₁` (4×4), `B₂₁` ((N−4)×4) and the Cholesky factor `L` of
+/// `sign · B₂₂`, which sits in the lower triangle of rows and columns 4.. of `factor` (the
+/// N×N column-major array it was computed in).
 #[derive(Debug, Clone)]
 struct Nullspace {
     house: Householder4,
     b11: Matrix4<f64>,
     b21: Mat<f64>,
-    llt: Llt<f64>,
+    factor: Vec<f64>,
     sign: f64,
 }
 
@@ -813,7 +831,14 @@ impl Nullspace {
             u1.push(u);
             qf.push(f);
         }
-        self.llt.solve_in_place(t.as_mut());
+        let l = faer::MatRef::from_column_major_slice_with_stride(&self.factor[4 * n + 4..], n - 4, n - 4, n);
+        faer::linalg::cholesky::llt::solve::solve_in_place_with_conj(
+            l,
+            faer::Conj::No,
+            t.as_mut(),
+            faer::get_global_parallelism(),
+            faer::dyn_stack::MemStack::new(&mut []),
+        );
         for col in 0..m {
             let (u, mut f) = (u1[col], std::mem::take(&mut qf[col]));
             // Rβ = (Qᵀf)₁ − B₁₁u₁ − B₂₁ᵀu₂
@@ -884,19 +909,51 @@ impl Householder4 {
         Some(Householder4 { n, v, tau, r })
     }
 
-    /// `A ← Hc A Hc` for a symmetric N×N column-major `A` (both triangles kept).
-    fn reflect_both_sides(&self, c: usize, a: &mut [f64], n: usize) {
-        let (v, tau) = (&self.v[c], self.tau[c]);
-        // p = τ A v (A symmetric: column j dotted with v), w = p − (τ/2)(pᵀv) v.
-        let p: Vec<f64> =
-            a.par_chunks(n).map(|col| tau * col[c..].iter().zip(&v[c..]).map(|(x, y)| x * y).sum::<f64>()).collect();
-        let k = 0.5 * tau * p.iter().zip(v).map(|(x, y)| x * y).sum::<f64>();
-        let w: Vec<f64> = p.iter().zip(v).map(|(p, v)| p - k * v).collect();
-        // A ← A − v wᵀ − w vᵀ
+    /// `A ← QᵀAQ` for a symmetric N×N column-major `A` (both triangles kept), the four
+    /// reflections at once in the compact WY form `Q = H₀H₁H₂H₃ = I − V T Vᵀ` (Schreiber &
+    /// Van Loan): with `P = AV`, `S = Tᵀ(VᵀP)T` and `W = PT − ½VS`, `QᵀAQ = A − WVᵀ − VWᵀ`.
+    /// Two passes over `A` (one read, one rank-8 update) instead of eight.
+    fn project_both_sides(&self, a: &mut [f64], n: usize) {
+        let v = &self.v;
+        // T upper triangular: T₀..c,c = −τc T₀..c,₀..c (V₀..cᵀ vc), Tcc = τc.
+        let mut t = Matrix4::zeros();
+        for c in 0..4 {
+            t[(c, c)] = self.tau[c];
+            let vtv: Vec<f64> = (0..c).map(|k| v[k].iter().zip(&v[c]).map(|(x, y)| x * y).sum()).collect();
+            for r in 0..c {
+                t[(r, c)] = -self.tau[c] * (r..c).map(|k| t[(r, k)] * vtv[k]).sum::<f64>();
+            }
+        }
+        // P = AV: row i of AV is column i of A (A symmetric) dotted with V's columns.
+        let p: Vec<[f64; 4]> = a
+            .par_chunks(n)
+            .map(|col| {
+                let mut row = [0.0; 4];
+                for (k, vk) in v.iter().enumerate() {
+                    row[k] = col.iter().zip(vk).map(|(x, y)| x * y).sum();
+                }
+                row
+            })
+            .collect();
+        let m = Matrix4::from_fn(|r, c| (0..n).map(|i| v[r][i] * p[i][c]).sum::<f64>());
+        let s = t.transpose() * m * t;
+        let w: Vec<[f64; 4]> = (0..n)
+            .map(|i| {
+                let vi = nalgebra::RowVector4::new(v[0][i], v[1][i], v[2][i], v[3][i]);
+                let pi = nalgebra::RowVector4::from(p[i]);
+                let wi = pi * t - 0.5 * vi * s;
+                [wi[0], wi[1], wi[2], wi[3]]
+            })
+            .collect();
+        let vrows: Vec<[f64; 4]> = (0..n).map(|i| [v[0][i], v[1][i], v[2][i], v[3][i]]).collect();
         a.par_chunks_mut(n).enumerate().for_each(|(j, col)| {
-            let (vj, wj) = (v[j], w[j]);
-            for ((x, vi), wi) in col.iter_mut().zip(v).zip(&w) {
-                *x -= vi * wj + wi * vj;
+            let (vj, wj) = (vrows[j], w[j]);
+            for ((x, vi), wi) in col.iter_mut().zip(&vrows).zip(&w) {
+                let mut d = 0.0;
+                for k in 0..4 {
+                    d += wi[k] * vj[k] + vi[k] * wj[k];
+                }
+                *x -= d;
             }
         });
     }
