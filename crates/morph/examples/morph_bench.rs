@@ -74,6 +74,10 @@ fn main() {
         std::process::exit(2);
     }
     let (case, dir) = (&args[1], Path::new(&args[2]));
+    // As the cadmorph CLI does: the main thread is worker 0 of the pool, so a parallel
+    // loop starts on it instead of waking every worker (see `start_thread_pool` in the
+    // CLI). Process set-up, like PyGeM's imports, so before the clock.
+    rayon::ThreadPoolBuilder::new().use_current_thread().build_global().expect("the global thread pool");
     let mut points = read_npy_points(&dir.join("points.npy"));
     let points_mb = (points.len() * 24) as f64 / 1048576.0;
     let rss_before = status_mb("VmRSS:");
