@@ -233,21 +233,37 @@ pub(crate) fn with_phi<J: WithPhi>(kernel: &Kernel, job: J) -> J::Output {
 
 /// `out[i] = [Σⱼ γⱼᶜ φ(‖pᵢ − cⱼ‖)]` over all centres (dense kernels).
 pub(crate) fn dense_sums(kernel: &Kernel, c: &Centres, pts: &[Point3<f64>], out: &mut [[f64; 3]]) {
-    with_phi(kernel, DenseSums { c, pts, out })
+    with_phi(kernel, SumsJob { centres: Source::All(c), pts, out })
 }
 
-struct DenseSums<'a> {
-    c: &'a Centres,
+/// `out[i] = [Σⱼ γⱼᶜ φ(‖pᵢ − cⱼ‖)]` for a compactly supported kernel, over the centres
+/// of the grid cells around each point (no allocation, branch-free kernel: the factor
+/// `max(1 − r/s, 0)` zeroes the centres beyond the support).
+pub(crate) fn grid_sums(kernel: &Kernel, grid: &Grid, pts: &[Point3<f64>], out: &mut [[f64; 3]]) {
+    with_phi(kernel, SumsJob { centres: Source::Grid(grid), pts, out })
+}
+
+/// The centres a sum runs over.
+enum Source<'a> {
+    All(&'a Centres),
+    Grid(&'a Grid),
+}
+
+struct SumsJob<'a> {
+    centres: Source<'a>,
     pts: &'a [Point3<f64>],
     out: &'a mut [[f64; 3]],
 }
 
-impl WithPhi for DenseSums<'_> {
+impl WithPhi for SumsJob<'_> {
     type Output = ();
 
     fn run<P: Phi>(self, phi: P, scale: f64) {
-        let DenseSums { c, pts, out } = self;
-        pulp::Arch::new().dispatch(DenseSimd { c, pts, out: &mut *out, phi });
+        let SumsJob { centres, pts, out } = self;
+        match centres {
+            Source::All(c) => pulp::Arch::new().dispatch(DenseSimd { c, pts, out: &mut *out, phi }),
+            Source::Grid(grid) => pulp::Arch::new().dispatch(GridSums { grid, pts, out: &mut *out, phi }),
+        }
         if scale != 1.0 {
             out.iter_mut().for_each(|o| *o = o.map(|v| v * scale));
         }
@@ -343,31 +359,7 @@ impl<P: Phi> pulp::WithSimd for ColumnSimd<'_, P> {
     }
 }
 
-/// `out[i] = [Σⱼ γⱼᶜ φ(‖pᵢ − cⱼ‖)]` for a compactly supported kernel, over the centres
-/// of the grid cells around each point (no allocation, branch-free kernel: the factor
-/// `max(1 − r/s, 0)` zeroes the centres beyond the support).
-pub(crate) fn grid_sums(kernel: &Kernel, grid: &Grid, pts: &[Point3<f64>], out: &mut [[f64; 3]]) {
-    with_phi(kernel, GridJob { grid, pts, out })
-}
-
-struct GridJob<'a> {
-    grid: &'a Grid,
-    pts: &'a [Point3<f64>],
-    out: &'a mut [[f64; 3]],
-}
-
-impl WithPhi for GridJob<'_> {
-    type Output = ();
-
-    fn run<P: Phi>(self, phi: P, scale: f64) {
-        let GridJob { grid, pts, out } = self;
-        pulp::Arch::new().dispatch(GridSums { grid, pts, out: &mut *out, phi });
-        if scale != 1.0 {
-            out.iter_mut().for_each(|o| *o = o.map(|v| v * scale));
-        }
-    }
-}
-
+/// The grid sum loop (see [`DenseSimd`] on why it is a `WithSimd` type).
 struct GridSums<'a, P> {
     grid: &'a Grid,
     pts: &'a [Point3<f64>],
