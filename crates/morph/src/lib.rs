@@ -40,6 +40,19 @@
 //!
 //! None. Large point sets are deformed in parallel with rayon; the inner loops are compiled
 //! for AVX2/FMA at run time when the CPU has them (through `pulp`, without `unsafe` here).
+//!
+//! # Threads
+//!
+//! The crate uses rayon's global pool and leaves its set-up to the program. A morph of 10⁶
+//! points by FFD takes a few milliseconds, and on small VMs the scheduler may put the
+//! workers a sleeping main thread wakes on one CPU for that long (one run in three took
+//! single-core time on the 2-vCPU bench machine). A program that morphs from its main
+//! thread avoids that by making it worker 0, as the `cadmorph` CLI does:
+//!
+//! ```
+//! // At start-up, before any parallel work (an existing pool is kept).
+//! let _ = rayon::ThreadPoolBuilder::new().use_current_thread().build_global();
+//! ```
 
 pub mod affine;
 mod deformation;
