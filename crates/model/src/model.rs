@@ -742,25 +742,14 @@ fn follow_face(
     d: &dyn Deformation,
     tol: f64,
 ) -> Option<cadmorph_nurbs::NurbsCurve> {
-    use cadmorph_nurbs::{Curve, SurfaceProject};
+    use cadmorph_nurbs::Curve;
     let dom = c.domain();
     let (t0, t1) = (*dom.start(), *dom.end());
     let size = before.control_points().iter().map(|p| p.coords.norm()).fold(0.0, f64::max).max(1.0);
     let ptol = 1e-12 * size;
     let last = std::cell::Cell::new(None::<(f64, f64)>);
     let image = |t: f64| {
-        let p = c.eval(t);
-        let pr = match last.get() {
-            Some(uv) => {
-                let local = before.project_from(&p, uv, ptol);
-                if local.distance_sq.sqrt() <= 1e-6 * size {
-                    local
-                } else {
-                    before.project(&p, ptol)
-                }
-            }
-            None => before.project(&p, ptol),
-        };
+        let pr = before.project_near(&c.eval(t), last.get(), ptol, 1e-6 * size);
         last.set(Some((pr.u, pr.v)));
         after.eval(pr.u, pr.v)
     };
@@ -775,14 +764,7 @@ fn follow_face(
     // fit there.
     // Parameters on the face, each search started from a nearby known answer.
     let uv = |t: f64, near: Option<(f64, f64)>| {
-        let p = c.eval(t);
-        if let Some(start) = near {
-            let local = before.project_from(&p, start, ptol);
-            if local.distance_sq.sqrt() <= 1e-6 * size {
-                return (local.u, local.v);
-            }
-        }
-        let pr = before.project(&p, ptol);
+        let pr = before.project_near(&c.eval(t), near, ptol, 1e-6 * size);
         (pr.u, pr.v)
     };
     let spans = |(u, v): (f64, f64)| {

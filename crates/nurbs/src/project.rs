@@ -287,6 +287,36 @@ impl NurbsSurface {
         let v0 = v0.clamp(domain.1 .0, domain.1 .1);
         newton_surface(self, p, (u0, v0), domain, tol)
     }
+
+    /// The closest point to `p`, searched locally from `near` when that is given (see
+    /// [`NurbsSurface::project_from`]) and kept when it lies within `accept` of `p`; else,
+    /// or without `near`, the global [`SurfaceProject::project`]. For walking along a
+    /// curve that lies on (or within `accept` of) the surface, each sample started from
+    /// the previous sample's answer: one Newton solve per sample instead of a global
+    /// search. Off the surface it is the global search, so a real gap is measured as such.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use cadmorph_nurbs::math::Point3;
+    /// use cadmorph_nurbs::NurbsSurface;
+    /// let s = NurbsSurface::bilinear([[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.]]);
+    /// let mut near = None;
+    /// for i in 0..=10 {
+    ///     let pr = s.project_near(&Point3::new(0.1 * i as f64, 0.5, 0.0), near, 1e-12, 1e-9);
+    ///     assert!((pr.u - 0.1 * i as f64).abs() < 1e-12 && pr.distance_sq < 1e-24);
+    ///     near = Some((pr.u, pr.v));
+    /// }
+    /// ```
+    pub fn project_near(&self, p: &Point3<f64>, near: Option<(f64, f64)>, tol: f64, accept: f64) -> Projection {
+        if let Some(start) = near {
+            let local = self.project_from(p, start, tol);
+            if local.distance_sq <= accept * accept {
+                return local;
+            }
+        }
+        self.project(p, tol)
+    }
 }
 
 fn project_surface<S: Surface + ?Sized>(s: &S, us: &[f64], vs: &[f64], p: &Point3<f64>, tol: f64) -> Projection {

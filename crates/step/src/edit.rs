@@ -4,7 +4,7 @@
 use std::collections::{HashMap, HashSet};
 
 use cadmorph_nurbs::math::{Matrix4, Point3};
-use cadmorph_nurbs::{Curve, NurbsCurve, NurbsSurface, SurfaceProject};
+use cadmorph_nurbs::{Curve, NurbsCurve, NurbsSurface};
 
 use crate::document::Document;
 use crate::error::{Error, Result};
@@ -448,9 +448,14 @@ impl Document {
             let t = e.transform;
             let inv = t.try_inverse().unwrap_or_else(Matrix4::identity);
             let face_after = self.morphed_surface(&faces[fi], &moved)?;
+            // Points along the edge lie on the face: each projection starts from the
+            // previous one's answer (a global search only for the first, or off the face).
+            let size = orig.control_points().iter().map(|p| p.coords.norm()).fold(0.0, f64::max).max(1.0);
+            let last = std::cell::Cell::new(None::<(f64, f64)>);
             let on_face = |p: &Point3<f64>| {
                 let w = t.transform_point(p);
-                let pr = orig.project(&w, 1e-12 * (1.0 + w.coords.norm()));
+                let pr = orig.project_near(&w, last.get(), 1e-12 * (1.0 + w.coords.norm()), 1e-6 * size);
+                last.set(Some((pr.u, pr.v)));
                 inv.transform_point(&cadmorph_nurbs::Surface::eval(&face_after, pr.u, pr.v))
             };
             if let Some(c) = curve_id {
@@ -548,8 +553,13 @@ impl Document {
                 (0..=16).map(|i| Curve::eval(&c.curve, d.start() + (d.end() - d.start()) * i as f64 / 16.0)).collect();
             pts.extend([c.start, c.end]);
             for s in adj {
+                // Along the edge, each projection starts from the previous one's answer
+                // when that lands on the face; a real gap gets the global search.
+                let size = s.control_points().iter().map(|p| p.coords.norm()).fold(0.0, f64::max).max(1.0);
+                let mut near = None;
                 for p in &pts {
-                    let pr = s.project(p, 1e-12 * (1.0 + p.coords.norm()));
+                    let pr = s.project_near(p, near, 1e-12 * (1.0 + p.coords.norm()), 1e-6 * size);
+                    near = Some((pr.u, pr.v));
                     worst = worst.max(pr.distance_sq.sqrt());
                 }
             }
