@@ -381,7 +381,7 @@ fn eval(file: &PathBuf, grid: usize, only: Option<usize>, json: bool) -> Result<
             }
             continue;
         };
-        let scale = s.control_points().iter().map(|p| p.coords.norm()).fold(f64::MIN_POSITIVE, f64::max);
+        let scale = s.control_extent().max(f64::MIN_POSITIVE);
         let (mut dp, mut dn) = (0.0f64, 0.0f64);
         for smp in &f.samples {
             dp = dp.max((s.eval(smp.u, smp.v) - smp.point).norm() / scale);

@@ -745,7 +745,7 @@ fn follow_face(
     use cadmorph_nurbs::Curve;
     let dom = c.domain();
     let (t0, t1) = (*dom.start(), *dom.end());
-    let size = before.control_points().iter().map(|p| p.coords.norm()).fold(0.0, f64::max).max(1.0);
+    let size = before.control_extent().max(1.0);
     let ptol = 1e-12 * size;
     let last = std::cell::Cell::new(None::<(f64, f64)>);
     let image = |t: f64| {

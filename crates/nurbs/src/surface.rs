@@ -264,6 +264,12 @@ impl NurbsSurface {
     pub fn control_points(&self) -> &[Point3<f64>] {
         &self.control_points
     }
+    /// The largest distance of a control point from the origin: the size of the model the
+    /// surface belongs to, which tolerances on it are taken relative to. It bounds the
+    /// distance of every point of the surface from the origin (convex hull).
+    pub fn control_extent(&self) -> f64 {
+        self.control_points.iter().map(|p| p.coords.norm()).fold(0.0, f64::max)
+    }
     /// Mutable control net: a deformation moves these and keeps the weights.
     pub fn control_points_mut(&mut self) -> &mut [Point3<f64>] {
         &mut self.control_points

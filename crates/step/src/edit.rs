@@ -450,7 +450,7 @@ impl Document {
             let face_after = self.morphed_surface(&faces[fi], &moved)?;
             // Points along the edge lie on the face: each projection starts from the
             // previous one's answer (a global search only for the first, or off the face).
-            let size = orig.control_points().iter().map(|p| p.coords.norm()).fold(0.0, f64::max).max(1.0);
+            let size = orig.control_extent().max(1.0);
             let last = std::cell::Cell::new(None::<(f64, f64)>);
             let on_face = |p: &Point3<f64>| {
                 let w = t.transform_point(p);
@@ -534,15 +534,18 @@ impl Document {
     pub fn edge_gap(&self) -> Result<(f64, usize)> {
         let faces = self.faces()?;
         let edges = self.edges(&faces)?;
-        let mut surfaces: HashMap<usize, NurbsSurface> = HashMap::new();
+        // Each B-spline face with the distance within which a local projection is kept.
+        let mut surfaces: HashMap<usize, (NurbsSurface, f64)> = HashMap::new();
         for (i, f) in faces.iter().enumerate() {
             if matches!(f.kind, SurfaceKind::BSpline { .. }) {
-                surfaces.insert(i, self.face_nurbs(f)?.surface);
+                let s = self.face_nurbs(f)?.surface;
+                let accept = 1e-6 * s.control_extent().max(1.0);
+                surfaces.insert(i, (s, accept));
             }
         }
         let (mut worst, mut n) = (0.0f64, 0);
         for e in &edges {
-            let adj: Vec<&NurbsSurface> = e.faces.iter().filter_map(|i| surfaces.get(i)).collect();
+            let adj: Vec<&(NurbsSurface, f64)> = e.faces.iter().filter_map(|i| surfaces.get(i)).collect();
             if adj.is_empty() {
                 continue;
             }
@@ -552,13 +555,12 @@ impl Document {
             let mut pts: Vec<Point3<f64>> =
                 (0..=16).map(|i| Curve::eval(&c.curve, d.start() + (d.end() - d.start()) * i as f64 / 16.0)).collect();
             pts.extend([c.start, c.end]);
-            for s in adj {
+            for (s, accept) in adj {
                 // Along the edge, each projection starts from the previous one's answer
                 // when that lands on the face; a real gap gets the global search.
-                let size = s.control_points().iter().map(|p| p.coords.norm()).fold(0.0, f64::max).max(1.0);
                 let mut near = None;
                 for p in &pts {
-                    let pr = s.project_near(p, near, 1e-12 * (1.0 + p.coords.norm()), 1e-6 * size);
+                    let pr = s.project_near(p, near, 1e-12 * (1.0 + p.coords.norm()), *accept);
                     near = Some((pr.u, pr.v));
                     worst = worst.max(pr.distance_sq.sqrt());
                 }
