@@ -462,18 +462,25 @@ struct PowerForm {
 impl PowerForm {
     fn new(mu: &Displacements) -> Option<PowerForm> {
         let [l, m, n] = mu.shape;
-        if l > 3 || m > 3 || n > 3 {
+        if [l, m, n].iter().any(|d| !(2..=3).contains(d)) {
             return None;
         }
-        // The coefficient of tᵃ in the Bernstein polynomial i of degree d:
-        // C(d, i) C(d − i, a − i) (−1)^(a − i) for a ≥ i.
-        let to_power = |d: usize, a: usize, i: usize| -> f64 {
-            if a < i {
-                return 0.0;
-            }
-            let sign = if (a - i) % 2 == 0 { 1.0 } else { -1.0 };
-            sign * BINOM[d][i] * BINOM[d - i][a - i]
+        // Per axis, the coefficient of tᵃ in the Bernstein polynomial i of degree d:
+        // C(d, i) C(d − i, a − i) (−1)^(a − i) for a ≥ i, else 0.
+        let to_power = |nodes: usize| -> [[f64; 3]; 3] {
+            let d = nodes - 1;
+            std::array::from_fn(|a| {
+                std::array::from_fn(|i| {
+                    if a > d || i > a {
+                        0.0
+                    } else {
+                        let sign = if (a - i) % 2 == 0 { 1.0 } else { -1.0 };
+                        sign * BINOM[d][i] * BINOM[d - i][a - i]
+                    }
+                })
+            })
         };
+        let (tx, ty, tz) = (to_power(l), to_power(m), to_power(n));
         let mut coef = [[0.0; 27]; 3];
         for (comp, src) in [&mu.x, &mu.y, &mu.z].into_iter().enumerate() {
             for a in 0..l {
@@ -483,8 +490,7 @@ impl PowerForm {
                         for i in 0..=a {
                             for j in 0..=b {
                                 for k in 0..=c {
-                                    let w = to_power(l - 1, a, i) * to_power(m - 1, b, j) * to_power(n - 1, c, k);
-                                    sum += w * src[(i * m + j) * n + k];
+                                    sum += tx[a][i] * ty[b][j] * tz[c][k] * src[(i * m + j) * n + k];
                                 }
                             }
                         }
@@ -506,7 +512,8 @@ impl PowerForm {
             [3, 2, 2] => self.eval_fixed::<S, 3, 2, 2>(simd, uvw),
             [2, 3, 3] => self.eval_fixed::<S, 2, 3, 3>(simd, uvw),
             [3, 2, 3] => self.eval_fixed::<S, 3, 2, 3>(simd, uvw),
-            _ => self.eval_fixed::<S, 3, 3, 2>(simd, uvw),
+            [3, 3, 2] => self.eval_fixed::<S, 3, 3, 2>(simd, uvw),
+            shape => unreachable!("PowerForm::new builds only 2 or 3 nodes per axis, not {shape:?}"),
         }
     }
 
