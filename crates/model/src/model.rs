@@ -432,7 +432,7 @@ impl Model {
         if let Some(n) = opts.uniform_knots {
             for (s, p) in patches.iter_mut().zip(&self.patches) {
                 if !p.analytic {
-                    refine_uniform(s, n);
+                    refine_uniform(s, n)?;
                 }
             }
         }
@@ -509,7 +509,7 @@ impl Model {
         }
         if let Some(n) = opts.uniform_knots {
             for s in &mut patches {
-                refine_uniform(s, n);
+                refine_uniform(s, n)?;
             }
         }
         let refinement = opts.refine.map(|r| {

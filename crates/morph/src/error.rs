@@ -132,6 +132,36 @@ pub enum Error {
         /// The condition limit in force.
         max_condition: f64,
     },
+    /// A size derived from the input would need more memory than the budget allows
+    /// ([`crate::budget`]); nothing was allocated.
+    #[error("{what} would need {} of memory, over the budget of {}", crate::budget::human_bytes(*needed), crate::budget::human_bytes(*limit as u128))]
+    TooLarge {
+        /// The parameter or structure whose size is refused (`FFD lattice 100000x100000x100000`).
+        what: String,
+        /// Bytes it would need (`u128::MAX` when even the product overflows).
+        needed: u128,
+        /// The budget in force, in bytes.
+        limit: u64,
+    },
+    /// A parameter file is not valid UTF-8.
+    #[error("byte {offset} (line {line}): not valid UTF-8 text")]
+    Encoding {
+        /// 0-based byte offset of the first invalid byte.
+        offset: usize,
+        /// 1-based line it is on.
+        line: usize,
+    },
+    /// Two RBF centres coincide (within a relative 1e-12 of the model size), so the
+    /// interpolation system is singular.
+    #[error("RBF centres {first} and {second} coincide at ({}, {}, {}): the interpolation system is singular", point[0], point[1], point[2])]
+    CoincidentCentres {
+        /// 0-based index of the first centre.
+        first: usize,
+        /// 0-based index of the second centre.
+        second: usize,
+        /// Where they are.
+        point: [f64; 3],
+    },
     /// A TOML parameter document did not parse or did not describe valid parameters.
     #[error("TOML line {line}, column {column}: {message}")]
     Toml {

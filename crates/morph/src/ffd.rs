@@ -152,6 +152,9 @@ impl Ffd {
                 });
             }
         }
+        let [l, m, n] = n_control_points;
+        // Three μ components per node, checked before the allocation and without wrapping.
+        crate::budget::check(&format!("FFD lattice {l}x{m}x{n}"), &[l, m, n, 3], std::mem::size_of::<f64>())?;
         let mut ffd = Ffd {
             box_origin,
             box_length,

@@ -55,6 +55,7 @@
 //! ```
 
 pub mod affine;
+pub mod budget;
 mod deformation;
 mod error;
 pub mod ffd;

@@ -117,10 +117,34 @@ struct IdwToml {
     deformed_control_points: Vec<[f64; 3]>,
 }
 
-/// 1-based line of the first line whose text starts with `key` (for errors found after
-/// parsing), or 0.
-fn line_of(text: &str, key: &str) -> usize {
-    text.lines().position(|l| l.trim_start().starts_with(key)).map_or(0, |i| i + 1)
+/// Where the keys of a parsed TOML document are, for errors found after parsing: the
+/// 1-based line of `key`'s value in the document's one table, or of the table header
+/// when the key is absent, or 0. The spans come from `toml_edit`, so dotted keys, inline
+/// tables and keys that are prefixes of others (`k` and `kernel`) are found where they are.
+struct Lines<'a> {
+    text: &'a str,
+    doc: Option<toml_edit::ImDocument<&'a str>>,
+}
+
+impl<'a> Lines<'a> {
+    fn new(text: &'a str) -> Self {
+        Lines { text, doc: toml_edit::ImDocument::parse(text).ok() }
+    }
+
+    fn of(&self, key: &str) -> usize {
+        let Some(doc) = &self.doc else { return 0 };
+        let line = |offset: usize| self.text[..offset.min(self.text.len())].matches('\n').count() + 1;
+        for (_, item) in doc.iter() {
+            let Some(table) = item.as_table_like() else { continue };
+            if let Some(span) = table.get(key).and_then(|v| v.span()) {
+                return line(span.start);
+            }
+            if let Some(span) = item.span() {
+                return line(span.start);
+            }
+        }
+        0
+    }
 }
 
 /// Attach the line of `key` to an error that was raised without one.
@@ -132,6 +156,19 @@ fn at_line(e: Error, line: usize) -> Error {
         }
         other => other,
     }
+}
+
+/// The bytes as UTF-8 text, or [`Error::Encoding`] naming the first bad byte.
+///
+/// # Errors
+///
+/// [`Error::Encoding`].
+pub fn utf8(bytes: &[u8]) -> Result<&str> {
+    std::str::from_utf8(bytes).map_err(|e| {
+        let offset = e.valid_up_to();
+        let line = bytes[..offset].iter().filter(|&&b| b == b'\n').count() + 1;
+        Error::Encoding { offset, line }
+    })
 }
 
 fn points(v: &[[f64; 3]]) -> Vec<Point3<f64>> {
@@ -151,6 +188,8 @@ impl Parameters {
     /// the checks of the morphs' constructors ([`Error::CountMismatch`],
     /// [`Error::InvalidParameter`], [`Error::UnknownKernel`]) with the line of the key.
     pub fn from_toml(text: &str) -> Result<Parameters> {
+        let lines = Lines::new(text);
+        let line_of = |_: &str, key: &str| lines.of(key);
         let doc: Doc = toml::from_str(text).map_err(|e| {
             let (line, column) = e.span().map_or((0, 0), |s| {
                 let before = &text[..s.start.min(text.len())];
@@ -312,6 +351,21 @@ impl Parameters {
             }
         };
         toml::to_string(&doc).expect("plain numbers and strings always serialise")
+    }
+
+    /// Read a parameter file's bytes: `toml` picks the TOML form, otherwise PyGeM's `.prm`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Encoding`] with the byte offset and line of the first byte that is not
+    /// UTF-8; otherwise as [`Parameters::from_toml`] or [`crate::prm::read`].
+    pub fn from_bytes(bytes: &[u8], toml: bool) -> Result<Parameters> {
+        let text = utf8(bytes)?;
+        if toml {
+            Parameters::from_toml(text)
+        } else {
+            crate::prm::read(text)
+        }
     }
 
     /// Read a PyGeM `.prm` file (see [`crate::prm::read`]).

@@ -12,6 +12,17 @@ pub enum Error {
         /// Second patch.
         b: usize,
     },
+    /// A refinement would need more memory than the budget allows
+    /// ([`cadmorph_morph::budget`]); nothing was allocated.
+    #[error("{what} would need {} of memory, over the budget of {}", cadmorph_morph::budget::human_bytes(*needed), cadmorph_morph::budget::human_bytes(*limit as u128))]
+    TooLarge {
+        /// What was to be refined, and to what size.
+        what: String,
+        /// Bytes it would need.
+        needed: u128,
+        /// The budget in force, in bytes.
+        limit: u64,
+    },
     /// A kernel operation failed.
     #[error(transparent)]
     Nurbs(#[from] cadmorph_nurbs::Error),

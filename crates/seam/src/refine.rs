@@ -8,6 +8,7 @@
 //! `M ∘ S` more closely; where it follows within `tol` on every patch, every seam that
 //! was closed stays closed within `2·tol`.
 
+use crate::{Error, Result};
 use cadmorph_morph::Deformation;
 use cadmorph_nurbs::math::{Matrix3, Point3, Vector3};
 use cadmorph_nurbs::{NurbsSurface, Side, Surface};
@@ -327,14 +328,43 @@ fn mark_boundaries<D: Deformation + ?Sized>(
 
 /// The PyGeM-style baseline: `n` knots per direction, evenly spaced over the domain
 /// (values that are already knots are skipped). Returns the number of knots inserted.
-pub fn refine_uniform(s: &mut NurbsSurface, n: usize) -> usize {
+///
+/// The values are `a·(1 − t) + b·t`, which stays finite on any finite domain (the plain
+/// `a + (b − a)·t` overflows on spans near `f64::MAX`), and the refined net is sized
+/// against the memory budget ([`cadmorph_morph::budget`]) before anything is allocated.
+///
+/// # Errors
+///
+/// [`Error::TooLarge`] when the refined net would exceed the budget; [`Error::Nurbs`]
+/// when the domain is too narrow for `n` distinct values.
+pub fn refine_uniform(s: &mut NurbsSurface, n: usize) -> Result<usize> {
     let (ud, vd) = s.domain();
+    let (nu, nv) = (s.n_u(), s.n_v());
+    let grown = |a: usize| a.checked_add(n).unwrap_or(usize::MAX);
+    // Four f64 per control point (x, y, z, w), twice over while the rows are rebuilt.
+    cadmorph_morph::budget::check(
+        &format!("uniform refinement by {n} knots per direction ({}x{} control points)", grown(nu), grown(nv)),
+        &[grown(nu), grown(nv), 4, 2],
+        std::mem::size_of::<f64>(),
+    )
+    .map_err(|e| match e {
+        cadmorph_morph::Error::TooLarge { what, needed, limit } => Error::TooLarge { what, needed, limit },
+        other => unreachable!("budget::check only refuses sizes: {other}"),
+    })?;
     let even = |a: f64, b: f64, knots: &cadmorph_nurbs::KnotVector| -> Vec<f64> {
-        (1..=n).map(|i| a + (b - a) * i as f64 / (n + 1) as f64).filter(|&k| knots.multiplicity(k, 0.0) == 0).collect()
+        let mut out: Vec<f64> = (1..=n)
+            .map(|i| {
+                let t = i as f64 / (n + 1) as f64;
+                a * (1.0 - t) + b * t
+            })
+            .filter(|&k| k > a && k < b && knots.multiplicity(k, 0.0) == 0)
+            .collect();
+        out.dedup();
+        out
     };
     let xu = even(*ud.start(), *ud.end(), s.u_knots());
     let xv = even(*vd.start(), *vd.end(), s.v_knots());
-    s.refine_u(&xu).expect("evenly spaced interior values");
-    s.refine_v(&xv).expect("evenly spaced interior values");
-    xu.len() + xv.len()
+    s.refine_u(&xu)?;
+    s.refine_v(&xv)?;
+    Ok(xu.len() + xv.len())
 }

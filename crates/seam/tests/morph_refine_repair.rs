@@ -88,7 +88,7 @@ fn seam_refinement_meets_the_target_with_fewer_points_than_uniform() {
             uniform = mismatched_hull();
         }
         for s in &mut uniform {
-            refine_uniform(s, 30);
+            refine_uniform(s, 30).unwrap();
         }
         let moved: Vec<NurbsSurface> = uniform.iter().map(|s| deformed(s, &ffd)).collect();
         let baseline = seams(&moved);

@@ -268,6 +268,14 @@ impl Rbf {
         let shift = centres.iter().fold(Vector3::zeros(), |a, p| a + p.coords) / n as f64;
         let scale = centres.iter().map(|p| (p.coords - shift).amax()).fold(0.0, f64::max);
         let scale = if scale > 0.0 { scale } else { 1.0 };
+        if let Some((first, second)) = coincident_pair(centres, 1e-12 * scale) {
+            let p = centres[first];
+            return Err(Error::CoincidentCentres { first, second, point: [p.x, p.y, p.z] });
+        }
+        if matches!(solver, Solver::Dense) {
+            // The assembled (N+4)² system, the factor of the fallback and its scratch.
+            crate::budget::check(&format!("dense RBF system of {n} centres"), &[n + 4, n + 4, 3], 8)?;
+        }
         let tree = kernel.support().map(|_| {
             let pts: Vec<[f64; 3]> = centres.iter().map(|p| [p.x, p.y, p.z]).collect();
             ImmutableKdTree::new_from_slice(&pts)
@@ -377,9 +385,13 @@ impl Rbf {
             // Cholesky in place, in the lower triangle of the trailing block (no second N²
             // copy: 4000 centres take 150 MB instead of 276).
             let par = faer::get_global_parallelism();
-            let mut mem = faer::dyn_stack::MemBuffer::new(
-                faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch::<f64>(n - 4, par, Default::default()),
-            );
+            let req =
+                faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch::<f64>(n - 4, par, Default::default());
+            // A scratch that cannot be had is a failed factorisation here, not an abort: the
+            // caller's fallback (or its error) takes over.
+            let Ok(mut mem) = faer::dyn_stack::MemBuffer::try_new(req) else {
+                return None;
+            };
             let factored = faer::linalg::cholesky::llt::factor::cholesky_in_place(
                 faer::MatMut::from_column_major_slice_with_stride_mut(&mut data[4 * n + 4..], n - 4, n - 4, n),
                 Default::default(),
@@ -1124,6 +1136,24 @@ impl LinearInParameters for Rbf {
         let weights = (0..n).map(|j| (j, rhs[(j, 0)])).filter(|&(_, w)| w != 0.0).collect();
         ParamWeights { n_nodes: n, weights, frame: Matrix3::identity() }
     }
+}
+
+/// The first pair of centres closer than `tol` (in the max norm), by a sweep over the
+/// centres sorted along x: O(N log N) unless many centres share an x.
+fn coincident_pair(centres: &[Point3<f64>], tol: f64) -> Option<(usize, usize)> {
+    let mut order: Vec<usize> = (0..centres.len()).collect();
+    order.sort_unstable_by(|&a, &b| centres[a].x.total_cmp(&centres[b].x));
+    for (k, &a) in order.iter().enumerate() {
+        for &b in &order[k + 1..] {
+            if centres[b].x - centres[a].x > tol {
+                break;
+            }
+            if (centres[b] - centres[a]).amax() <= tol {
+                return Some((a.min(b), a.max(b)));
+            }
+        }
+    }
+    None
 }
 
 #[cfg(test)]
