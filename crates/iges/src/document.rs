@@ -337,6 +337,8 @@ pub struct Document {
     pub(crate) edited: bool,
     /// Sequence numbers written `0000001` (true) or `      1`.
     pub(crate) zero_padded: bool,
+    /// What the reader accepted but would not write itself ([`Document::warnings`]).
+    pub(crate) warnings: Vec<crate::Warning>,
 }
 
 impl Document {
@@ -457,6 +459,12 @@ impl Document {
             }
         }
         Ok(())
+    }
+
+    /// What the reader accepted although the file breaks the standard (a Hollerith count
+    /// past the end of the Global section, read as OCCT reads it), each with its position.
+    pub fn warnings(&self) -> &[crate::Warning] {
+        &self.warnings
     }
 
     /// Whether any edit has been made.

@@ -150,6 +150,16 @@ pub enum Error {
         /// The kind wanted.
         expected: &'static str,
     },
+    /// A line's sequence number (columns 74–80) is not its place in its section.
+    #[error("{at}: sequence number {found} where line {expected} of the section was expected (lines out of order or missing)")]
+    Sequence {
+        /// The line's sequence field.
+        at: Position,
+        /// Its place in the section, 1-based.
+        expected: usize,
+        /// The field's text.
+        found: String,
+    },
     /// The Terminate section's counts disagree with the sections.
     #[error("{at}: terminate section says {section} has {declared} lines, found {found}")]
     Terminate {
@@ -204,6 +214,21 @@ pub enum Error {
         /// Why.
         reason: String,
     },
+}
+
+/// Something the reader accepted although the file breaks the standard.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Warning {
+    /// Where.
+    pub at: Position,
+    /// What was accepted, and how it was read.
+    pub message: String,
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.at, self.message)
+    }
 }
 
 /// `Result` with this crate's [`Error`].

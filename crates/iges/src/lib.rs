@@ -74,5 +74,5 @@ pub mod write;
 pub use convert::{FaceRef, NurbsInfo, SurfaceInfo};
 pub use document::{Directory, Document, Entity, EntityId, Param, Status, Value};
 pub use entity::View;
-pub use error::{Error, Position, Result};
+pub use error::{Error, Position, Result, Warning};
 pub use global::{Global, Units};

@@ -26,7 +26,8 @@ fn at(err: &Error) -> Position {
         | Error::DanglingPointer { at, .. }
         | Error::Count { at, .. }
         | Error::Parameter { at, .. }
-        | Error::Terminate { at, .. } => *at,
+        | Error::Terminate { at, .. }
+        | Error::Sequence { at, .. } => *at,
         e => panic!("no position in {e}"),
     }
 }
@@ -56,9 +57,21 @@ fn wrong_section_letter() {
     assert!(matches!(err, Error::Section { .. }));
     assert_eq!((at(&err).line, at(&err).column), (7, 73));
     assert_eq!(err.to_string(), "section D, line 7, column 73: expected S, G, D, P or T in column 73, found \"X\"");
-    // A P line among the D lines: out of order.
+    // A P line among the D lines: its sequence number (D 3) is not the first of a P section.
     let bytes = edit_line(&sample("mixed_solid.igs"), 7, |l| l[72] = b'P');
     let bytes = edit_line(&bytes, 8, |l| l[72] = b'D');
+    let err = Document::parse(&bytes).unwrap_err();
+    assert!(matches!(err, Error::Sequence { expected: 1, .. }), "{err}");
+    assert_eq!((at(&err).section, at(&err).line, at(&err).column), ('P', 8, 74), "{err}");
+    // Without sequence numbers, the order of the letters is what is wrong.
+    let bytes = edit_line(&sample("mixed_solid.igs"), 7, |l| {
+        l[72] = b'P';
+        l[73..80].copy_from_slice(b"       ");
+    });
+    let bytes = edit_line(&bytes, 8, |l| {
+        l[72] = b'D';
+        l[73..80].copy_from_slice(b"       ");
+    });
     let err = Document::parse(&bytes).unwrap_err();
     assert_eq!((at(&err).section, at(&err).line), ('D', 9), "{err}");
     // Compressed form.
@@ -114,11 +127,15 @@ fn bad_counts() {
 
 #[test]
 fn hollerith_past_the_end() {
-    // In the Global section: 99H runs past the section.
+    // In the Global section (one Rhino export does this): 99H runs past the section. Read
+    // as OCCT reads it, the string takes the rest of the section, with a warning at the count.
     let bytes = edit_line(&sample("nurbs_arc.igs"), 4, |l| l[..3].copy_from_slice(b"99H"));
-    let err = Document::parse(&bytes).unwrap_err();
-    assert!(matches!(err, Error::Hollerith { length: 99, within: "global section", .. }), "{err}");
-    assert_eq!(at(&err), Position { section: 'G', line: 5, column: 1, entity: None });
+    let doc = Document::parse(&bytes).unwrap();
+    let w = doc.warnings();
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert_eq!(w[0].at, Position { section: 'G', line: 5, column: 1, entity: None });
+    assert!(w[0].message.contains("99"), "{}", w[0]);
+    assert!(Document::parse(&sample("nurbs_arc.igs")).unwrap().warnings().is_empty());
     // In a parameter record.
     let bytes = edit_line(&sample("bspline_surface.igs"), 9, |l| l[..12].copy_from_slice(b"144,80Hxxxxx"));
     let err = Document::parse(&bytes).unwrap_err();
@@ -151,8 +168,7 @@ fn terminate_counts() {
     let mut bad = bytes.clone();
     assert_eq!(&bad[t_start + 24..t_start + 32], b"P      2");
     bad[t_start + 31] = b'1';
-    let doc = Document::parse(&bad).unwrap();
-    let err = doc.check_terminate().unwrap_err();
+    let err = Document::parse(&bad).unwrap_err();
     assert!(matches!(err, Error::Terminate { section: 'P', declared: 1, found: 2, .. }), "{err}");
     assert_eq!(at(&err), Position { section: 'T', line: 10, column: 25, entity: None });
 }
@@ -214,4 +230,20 @@ proptest! {
         }
         exercise(&bytes);
     }
+}
+
+/// `../shared/repro/ig_P_lines_swapped.igs` (two P lines of `bspline_surface.igs` swapped)
+/// used to read as other geometry; its sequence numbers say where it breaks.
+#[test]
+fn repro_swapped_parameter_lines_are_refused() {
+    let bytes = sample("bspline_surface.igs");
+    let text = String::from_utf8(bytes).unwrap();
+    let mut lines: Vec<&str> = text.lines().collect();
+    let p0 = lines.iter().position(|l| l.as_bytes().get(72) == Some(&b'P')).unwrap();
+    lines.swap(p0 + 3, p0 + 4);
+    let err = Document::parse(lines.join("\n").as_bytes()).unwrap_err();
+    assert!(matches!(err, Error::Sequence { expected: 4, .. }), "{err}");
+    assert_eq!((at(&err).section, at(&err).line, at(&err).column), ('P', p0 + 4, 74));
+    let err = Document::parse(&std::fs::read(cadmorph_testkit::repro("ig_P_lines_swapped.igs")).unwrap()).unwrap_err();
+    assert!(matches!(err, Error::Sequence { .. }), "{err}");
 }

@@ -58,7 +58,7 @@ pub fn interpolate(p: usize, knots: &KnotVector, targets: &[Point3<f64>]) -> Res
     // Forward elimination without pivoting.
     for k in 0..n {
         let pivot = band[k * w + p];
-        if !(pivot.abs() > f64::MIN_POSITIVE) || !pivot.is_finite() {
+        if !pivot.is_finite() || pivot.abs() <= f64::MIN_POSITIVE {
             return Err(singular());
         }
         let last = (k + p).min(n - 1);

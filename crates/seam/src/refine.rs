@@ -340,7 +340,7 @@ fn mark_boundaries<D: Deformation + ?Sized>(
 pub fn refine_uniform(s: &mut NurbsSurface, n: usize) -> Result<usize> {
     let (ud, vd) = s.domain();
     let (nu, nv) = (s.n_u(), s.n_v());
-    let grown = |a: usize| a.checked_add(n).unwrap_or(usize::MAX);
+    let grown = |a: usize| a.saturating_add(n);
     // Four f64 per control point (x, y, z, w), twice over while the rows are rebuilt.
     cadmorph_morph::budget::check(
         &format!("uniform refinement by {n} knots per direction ({}x{} control points)", grown(nu), grown(nv)),

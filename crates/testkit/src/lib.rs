@@ -16,6 +16,11 @@ pub fn sample(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../samples").join(name)
 }
 
+/// Path of a defect reproducer in the repository's `tests/repro/` folder.
+pub fn repro(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/repro").join(name)
+}
+
 /// Names of the files in `samples/` ending in `suffix`, sorted.
 pub fn samples_with_suffix(suffix: &str) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(sample(""))

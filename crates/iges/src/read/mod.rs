@@ -5,7 +5,7 @@ pub(crate) mod lexer;
 use std::sync::Arc;
 
 use crate::document::{Directory, Document, Entity, EntityId, Layout, Line, PBlock, RecordText, Source, Status};
-use crate::error::{snippet, Error, Position, Result};
+use crate::error::{snippet, Error, Position, Result, Warning};
 use crate::global::Global;
 use lexer::{hollerith_at, tokenize, LexError, Raw, Token};
 
@@ -87,7 +87,15 @@ fn is_blank_line(b: &[u8]) -> bool {
     b.iter().all(|&c| c == b' ' || c == b'\t' || c == 0x1a)
 }
 
-/// Finds the sections; checks letters and order.
+/// A sequence number field (digits, maybe zero-padded).
+fn sequence_number(field: &[u8]) -> Option<usize> {
+    if field.is_empty() || field.len() > 7 || !field.iter().all(u8::is_ascii_digit) {
+        return None;
+    }
+    Some(field.iter().fold(0usize, |n, &d| n * 10 + usize::from(d - b'0')))
+}
+
+/// Finds the sections; checks letters, order and sequence numbers.
 fn sections(src: &[u8], lines: &[Line]) -> Result<Layout> {
     const ORDER: [u8; 5] = [b'S', b'G', b'D', b'P', b'T'];
     let mut first = [usize::MAX; 5];
@@ -141,6 +149,18 @@ fn sections(src: &[u8], lines: &[Line]) -> Result<Layout> {
             first[s] = k;
         }
         last[s] = k + 1;
+        // Columns 74–80: the line's number within its section. A line out of place (two P
+        // lines swapped) would otherwise be read as other geometry; a blank field is
+        // taken as correct (some writers leave it out).
+        let expected = k - first[s] + 1;
+        let seq = trim(&text[73..text.len().min(80)]);
+        if !seq.is_empty() && sequence_number(seq) != Some(expected) {
+            return Err(Error::Sequence {
+                at: pos(letter as char, k + 1, 74, None),
+                expected,
+                found: String::from_utf8_lossy(seq).into_owned(),
+            });
+        }
         if s == 4 {
             terminate = Some(k);
         }
@@ -193,7 +213,12 @@ fn lex_position(err: &LexError, map: &dyn Fn(usize) -> Position) -> Error {
 }
 
 /// Parses the Global section text (columns 1–72 of its lines, concatenated).
-fn global(src: &[u8], lines: &[Line], layout: &Layout) -> Result<Global> {
+/// The Global section, and the warnings its reading gave.
+///
+/// A Hollerith string whose count runs past the end of the section (one Rhino export
+/// writes the last string's count too large) is read as OCCT's reader reads it: the string
+/// takes the rest of the section, and a [`Warning`] names the count's position.
+fn global(src: &[u8], lines: &[Line], layout: &Layout) -> Result<(Global, Vec<Warning>)> {
     let mut text = Vec::with_capacity(layout.global.len() * G_WIDTH);
     for l in &lines[layout.global.clone()] {
         text.extend_from_slice(&src[l.start..l.start + G_WIDTH]);
@@ -201,6 +226,7 @@ fn global(src: &[u8], lines: &[Line], layout: &Layout) -> Result<Global> {
     let g0 = layout.global.start;
     let map = |off: usize| pos('G', g0 + off / G_WIDTH + 1, off % G_WIDTH + 1, None);
     let mut tokens = Vec::new();
+    let mut warnings = Vec::new();
     // Parameters 1 and 2 name the delimiters, so they are read before the others.
     let mut i = 0;
     while i < text.len() && text[i] == b' ' {
@@ -244,14 +270,22 @@ fn global(src: &[u8], lines: &[Line], layout: &Layout) -> Result<Global> {
     let rd = delimiter(&mut i, Some(pd), b';')?;
     match text.get(i) {
         Some(&c) if c == rd => {}
-        Some(&c) if c == pd => {
-            tokenize(&text, i + 1, pd, rd, &mut tokens).map_err(|e| match e {
-                LexError::Hollerith { offset, length } => {
-                    Error::Hollerith { at: map(offset), length, within: "global section" }
-                }
-                e => lex_position(&e, &map),
-            })?;
-        }
+        Some(&c) if c == pd => match tokenize(&text, i + 1, pd, rd, &mut tokens) {
+            Ok(_) => {}
+            Err(LexError::Hollerith { offset, length }) => {
+                let (_, first) = hollerith_at(&text, offset).expect("the lexer saw a count here");
+                let kept = text.len() - first;
+                tokens.push(Token { offset: offset as u32, raw: Raw::Text { start: first as u32, len: kept as u32 } });
+                warnings.push(Warning {
+                    at: map(offset),
+                    message: format!(
+                        "Hollerith count {length} runs past the end of the global section; \
+                             the string was read to the end of the section ({kept} characters), as OCCT reads it"
+                    ),
+                });
+            }
+            Err(e) => return Err(lex_position(&e, &map)),
+        },
         _ => {
             return Err(Error::Syntax {
                 at: map(i),
@@ -260,7 +294,7 @@ fn global(src: &[u8], lines: &[Line], layout: &Layout) -> Result<Global> {
             })
         }
     }
-    Ok(Global { text, tokens, parameter_delimiter: pd, record_delimiter: rd })
+    Ok((Global { text, tokens, parameter_delimiter: pd, record_delimiter: rd }, warnings))
 }
 
 /// Reads an 8-column integer field; blanks are 0.
@@ -342,7 +376,7 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
     let (bytes, lines) = (&src.bytes[..], &src.lines[..]);
     let layout = sections(bytes, lines)?;
     let global = global(bytes, lines, &layout)?;
-    let (pd, rd) = (global.parameter_delimiter, global.record_delimiter);
+    let (pd, rd) = (global.0.parameter_delimiter, global.0.record_delimiter);
 
     let d = layout.directory.clone();
     if d.len() % 2 == 1 {
@@ -480,7 +514,10 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
         p_blocks.push(PBlock::Loose(next..n_p));
     }
     let zero_padded = lines.first().is_some_and(|l| bytes.get(l.start + 73) == Some(&b'0'));
-    Ok(Document { src, layout, global, entities, p_blocks, edited: false, zero_padded })
+    let (global, warnings) = global;
+    let doc = Document { src, layout, global, entities, p_blocks, edited: false, zero_padded, warnings };
+    doc.check_terminate()?;
+    Ok(doc)
 }
 
 #[cfg(test)]
