@@ -46,5 +46,5 @@ mod trace;
 
 pub use cadmorph_brep::{CadDocument, EntityRef, Face, Format, ReadDocument, Skipped, Units};
 pub use error::{Error, Result};
-pub use model::{Info, Model, Patch, PatchInfo, Progress, Silent, Verification};
+pub use model::{write_atomic, Info, Model, Patch, PatchInfo, Progress, Silent, Verification};
 pub use morph::{MorphOptions, MorphOutcome};
