@@ -28,7 +28,7 @@
 //! let bow = cadmorph::morph::Affine::identity();
 //! model.morph(&bow, &Default::default())?;
 //! assert_eq!(model.to_bytes(), std::fs::read(&path)?); // nothing moved, nothing rewritten
-//! # Ok::<(), cadmorph::model::Error>(())
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 mod convert;

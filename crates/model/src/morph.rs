@@ -172,9 +172,9 @@ impl<D: CadDocument> Model<D> {
             }
         }
         progress.start("writing", 0);
-        let old = self.faces.clone();
-        let faces_rewritten = self.write_faces(&refined, patches, d)?;
-        let curves_rewritten = self.write_curves(&old, d)?;
+        let tol = 1e-7 * self.size();
+        let (faces_rewritten, unmoved) = self.write_faces(&refined, patches, d)?;
+        let curves_rewritten = self.write_curves(&unmoved, d, tol)?;
         self.rebuild_edges();
         let seams_after = self.seams_at(&trim_samples, &domains, progress);
         self.after_samples = Some((trim_samples, domains));
@@ -189,15 +189,19 @@ impl<D: CadDocument> Model<D> {
         })
     }
 
-    /// Writes every face whose surface the morph changed; returns how many were written.
+    /// Writes every face whose surface the morph changed; returns how many were written,
+    /// and each face's surface before the morph in the parameters of the surface it has
+    /// now (what its curves are traced from).
     fn write_faces(
         &mut self,
         refined: &[NurbsSurface],
         moved: Vec<NurbsSurface>,
         d: &dyn Deformation,
-    ) -> Result<usize> {
+    ) -> Result<(usize, Vec<NurbsSurface>)> {
         let mut written = 0;
+        let mut unmoved = Vec::with_capacity(moved.len());
         for ((face, r), s) in self.faces.iter_mut().zip(refined).zip(moved) {
+            unmoved.push(face.surface.clone());
             if face.kind.is_analytic() {
                 if s == face.surface || !moved_by(d, face.surface.control_points()) {
                     continue;
@@ -207,27 +211,28 @@ impl<D: CadDocument> Model<D> {
                 // patch carries over where that form has the patch's knots.
                 let b = self.doc.bspline_form(face)?;
                 let mut target = refined_like(&face.surface, r, &b);
+                // Curves are traced from this form (its parameters), not from the patch.
+                *unmoved.last_mut().expect("pushed above") = target.clone();
                 d.deform(target.control_points_mut());
                 face.kind = SurfaceKind::BSpline;
                 self.doc.set_face_surface(face, &target)?;
                 face.surface = target;
                 written += 1;
-            } else {
-                // Every B-spline face is offered: one that did not change writes nothing,
-                // and one sharing points with a face written before is checked against it.
+            } else if s != face.surface {
                 if self.doc.set_face_surface(face, &s)? {
                     written += 1;
                 }
                 face.surface = s;
             }
         }
-        Ok(written)
+        Ok((written, unmoved))
     }
 
-    /// Traces every moved bound curve once on its first morphed face, then moves the
-    /// free curves' control points; returns how many curve entities were written.
-    fn write_curves(&mut self, old: &[cadmorph_brep::Face], d: &dyn Deformation) -> Result<usize> {
-        let tol = 1e-7 * crate::edges::size_of(old);
+    /// Traces every moved bound curve once on its first morphed face (from `unmoved`, the
+    /// face before the morph in the parameters it has now), then moves the free curves'
+    /// control points; returns how many curve entities were written. A traced curve
+    /// stays within `tol` of its face.
+    fn write_curves(&mut self, unmoved: &[NurbsSurface], d: &dyn Deformation, tol: f64) -> Result<usize> {
         let mut n = 0;
         let mut traced: HashSet<EntityRef> = HashSet::new();
         for k in 0..self.bounds.len() {
@@ -238,7 +243,7 @@ impl<D: CadDocument> Model<D> {
             }
             traced.insert(target);
             let face = b.face;
-            let Some(c) = follow_face(&b.curve, &old[face].surface, &self.faces[face].surface, d, tol) else {
+            let Some(c) = follow_face(&b.curve, &unmoved[face], &self.faces[face].surface, d, tol) else {
                 continue;
             };
             if self.doc.set_bound_curve(b, &c)? {

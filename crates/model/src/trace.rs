@@ -103,6 +103,11 @@ pub(crate) fn follow_face(
         let near = uvs.last().copied();
         uvs.push(uv(t, near));
     }
+    // A curve along an iso-line of the face (a boundary, a rim) is that iso-line of the
+    // morphed face, exactly.
+    if let Some(iso) = iso_trace(c, before, after, &uvs) {
+        return Some(iso);
+    }
     let mut breaks = Vec::new();
     for k in 0..m {
         let cell = spans(uvs[k]);
@@ -124,9 +129,71 @@ pub(crate) fn follow_face(
         breaks.push(0.5 * (lo + hi));
     }
     last.set(None);
-    match cadmorph_nurbs::fit_curve(image, (t0, t1), &breaks, 3, tol, 4 * (breaks.len() + 1) * 16 + 64) {
+    // A cubic needs about (r / tol)^(1/4) spans per turn of a curve of radius r: a full
+    // circle at 1e-7 of its size takes some 300 poles.
+    match cadmorph_nurbs::fit_curve(image, (t0, t1), &breaks, 3, tol, 2048 + 64 * breaks.len()) {
         Ok((f, _)) => Some(f),
         // Moved control points at least follow the morph, if not the face exactly.
         Err(_) => Some(moved),
     }
+}
+
+/// When the face parameters `uvs` of samples along `c` (evenly spaced in its parameter)
+/// keep `u` (or `v`) constant and run monotonically in the other, the part of `after`'s
+/// iso-curve there, running the way `c` runs (the whole iso-curve for a closed `c`).
+/// `None` when `c` is not along an iso-line.
+fn iso_trace(c: &NurbsCurve, before: &NurbsSurface, after: &NurbsSurface, uvs: &[(f64, f64)]) -> Option<NurbsCurve> {
+    use cadmorph_nurbs::Curve;
+    if uvs.len() < 5 {
+        return None;
+    }
+    let (ud, vd) = before.domain();
+    let (su, sv) = (ud.end() - ud.start(), vd.end() - vd.start());
+    let eps = 1e-9;
+    let u_const = uvs.iter().all(|q| (q.0 - uvs[0].0).abs() <= eps * su);
+    let v_const = uvs.iter().all(|q| (q.1 - uvs[0].1).abs() <= eps * sv);
+    let (iso, along, span) = match (u_const, v_const) {
+        (true, false) => (after.u_iso(uvs[0].0), uvs.iter().map(|q| q.1).collect::<Vec<_>>(), sv),
+        (false, true) => (after.v_iso(uvs[0].1), uvs.iter().map(|q| q.0).collect::<Vec<_>>(), su),
+        _ => return None,
+    };
+    let d = c.domain();
+    let closed =
+        (c.eval(*d.start()) - c.eval(*d.end())).norm() <= 1e-9 * c.bounding_box().diagonal().max(f64::MIN_POSITIVE);
+    let n = along.len();
+    let dom = iso.domain();
+    let (lo_dom, hi_dom) = (*dom.start(), *dom.end());
+    let (a, b) = if closed {
+        // A closed curve's ends may land on either side of the iso-curve's seam: the
+        // direction from the middle samples, the whole iso-curve.
+        let forward = along[n / 2] > along[n / 4];
+        let interior = &along[n / 8..n - n / 8];
+        let mono = interior.windows(2).all(|w| if forward { w[1] >= w[0] } else { w[1] <= w[0] });
+        if !mono || (hi_dom - lo_dom - span).abs() > eps * span {
+            return None;
+        }
+        if forward {
+            (lo_dom, hi_dom)
+        } else {
+            (hi_dom, lo_dom)
+        }
+    } else {
+        let forward = along[n - 1] > along[0];
+        if !along.windows(2).all(|w| if forward { w[1] >= w[0] } else { w[1] <= w[0] }) {
+            return None;
+        }
+        (along[0], along[n - 1])
+    };
+    let (lo, hi) = (a.min(b), a.max(b));
+    if hi - lo <= eps * span {
+        return None;
+    }
+    let mut seg = iso;
+    if lo > lo_dom + eps * span {
+        seg = seg.split(lo).ok()?.1;
+    }
+    if hi < hi_dom - eps * span {
+        seg = seg.split(hi).ok()?.0;
+    }
+    Some(if a > b { seg.reversed() } else { seg })
 }

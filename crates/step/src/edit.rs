@@ -13,6 +13,9 @@ use crate::views::{Ctx, Edge, Face, SurfaceKind};
 use crate::write::{knot_lists, real_list};
 use crate::EntityId;
 
+/// Control points to move in place: `(point instance, new position)`.
+type PointMoves = Vec<(EntityId, Point3<f64>)>;
+
 impl Document {
     /// Moves the Cartesian point `#id` to `p` (file coordinates). Every curve and surface
     /// that lists the point moves with it, once.
@@ -278,8 +281,10 @@ impl Document {
     /// weights, only its moved control points are rewritten in place, and **a point
     /// shared by two faces moves once**: a point that an earlier write in this session
     /// already moved (to the position this surface also wants) is left alone. When this
-    /// surface wants a shared point elsewhere than an earlier write put it, or the
-    /// structure differs, the surface gets its own new points
+    /// surface wants a shared point elsewhere than an earlier write put it, when a point
+    /// to move is also a control point of another curve or surface that has not been
+    /// written (it would move along), or when the structure differs, the surface gets
+    /// its own new points
     /// ([`set_face_surface`](Self::set_face_surface)'s way) and no other face moves.
     /// Returns whether anything was written.
     ///
@@ -313,7 +318,9 @@ impl Document {
                 && old.v_knots() == local.v_knots()
                 && old.weights() == local.weights();
             if same_structure {
-                if let Some(plan) = self.in_place_plan(surface, old.control_points(), local.control_points())? {
+                let plan = self.in_place_plan(surface, old.control_points(), local.control_points())?;
+                let plan = plan.filter(|p| !self.shared_with_other_geometry(surface, p));
+                if let Some(plan) = plan {
                     for (id, p) in plan {
                         self.set_point(id, p)?;
                     }
@@ -328,12 +335,7 @@ impl Document {
     /// The points of `#surface` to move in place to take its poles from `old` to `new`,
     /// or `None` when a point is wanted at two places (already moved elsewhere by an
     /// earlier write, or listed twice with different targets).
-    fn in_place_plan(
-        &self,
-        surface: EntityId,
-        old: &[Point3<f64>],
-        new: &[Point3<f64>],
-    ) -> Result<Option<Vec<(EntityId, Point3<f64>)>>> {
+    fn in_place_plan(&self, surface: EntityId, old: &[Point3<f64>], new: &[Point3<f64>]) -> Result<Option<PointMoves>> {
         let ids = self.control_point_ids(surface)?;
         let mut plan: HashMap<u64, Point3<f64>> = HashMap::new();
         for ((id, p_old), p_new) in ids.iter().zip(old).zip(new) {
@@ -364,12 +366,49 @@ impl Document {
         Ok(Some(out))
     }
 
+    /// Whether an instance other than `#surface` and vertices references one of the
+    /// points of `moves` (one pass over the document's text): moving them in place would
+    /// move that curve or surface too.
+    fn shared_with_other_geometry(&self, surface: EntityId, moves: &PointMoves) -> bool {
+        let ids: HashSet<u64> = moves.iter().map(|(id, _)| id.0).collect();
+        if ids.is_empty() {
+            return false;
+        }
+        (0..self.instances.len()).any(|k| {
+            let inst = &self.instances[k];
+            if inst.id == surface.0 || ids.contains(&inst.id) || self.name_of(k) == "VERTEX_POINT" {
+                return false;
+            }
+            let body = &self.text(k)[inst.body as usize..];
+            let mut i = 0;
+            while i < body.len() {
+                if body[i] == b'#' {
+                    let start = i + 1;
+                    let mut j = start;
+                    let mut n: u64 = 0;
+                    while j < body.len() && body[j].is_ascii_digit() {
+                        n = n.saturating_mul(10).saturating_add(u64::from(body[j] - b'0'));
+                        j += 1;
+                    }
+                    if j > start && ids.contains(&n) {
+                        return true;
+                    }
+                    i = j;
+                } else {
+                    i += 1;
+                }
+            }
+            false
+        })
+    }
+
     /// Gives `EDGE_CURVE` `#edge` (placed by `transform`) the new 3D curve `c` (see
     /// [`set_edge_curves`](Self::set_edge_curves)) and moves its vertices to the curve's
     /// ends (the start vertex to `c`'s start when the edge runs along its curve, to its
     /// end otherwise). A vertex point that an earlier write already moved is left where
-    /// it is (a vertex shared by several edges moves once). Returns whether anything was
-    /// written.
+    /// it is (a vertex shared by several edges moves once), and so is one that is also a
+    /// control point of some curve or surface (moving it would move that geometry).
+    /// Returns whether anything was written.
     ///
     /// # Errors
     ///
@@ -396,7 +435,11 @@ impl Document {
         let (at_start, at_end) = if same_sense { (a, b) } else { (b, a) };
         let inverse = transform.try_inverse().unwrap_or_else(Matrix4::identity);
         for (pid, w) in [(ps, at_start), (pe, at_end)] {
-            if self.get(pid).is_some_and(|i| i.is_edited()) {
+            // A point an earlier write moved stays; so does one that is also a control
+            // point of a curve or surface (that geometry owns it and moves it itself).
+            if self.get(pid).is_some_and(|i| i.is_edited())
+                || self.referrers(pid).into_iter().any(|k| self.name_of(k) != "VERTEX_POINT")
+            {
                 continue;
             }
             let local = inverse.transform_point(&w);

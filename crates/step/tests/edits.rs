@@ -58,8 +58,8 @@ fn set_point_rewrites_only_that_instance() {
 
 #[test]
 fn shared_points_move_once() {
-    // The sample's faces list the same control point instances: writing each face
-    // moved by the same translation moves every shared point once and adds no points.
+    // Writing the face moved by a translation moves its points in place (no new
+    // instances), once: the same geometry again writes nothing.
     let (_, mut doc) = load("bspline_surface.stp");
     let faces = doc.faces().unwrap();
     let ids: Vec<EntityId> = faces.iter().flat_map(|f| doc.control_point_ids(f.surface).unwrap()).collect();
