@@ -947,30 +947,19 @@ impl Document {
     /// the face's parent space; empty when the face has none.
     pub(crate) fn boundary_points(&self, face: EntityId) -> Result<Vec<Point3<f64>>> {
         let mut curves: Vec<EntityId> = Vec::new();
-        match self.view(face)? {
-            View::TrimmedSurface(t) => curves.extend(t.outer.into_iter().chain(t.inner)),
-            View::BoundedSurface(b) => {
-                for bd in b.boundaries {
-                    if let View::Boundary(bv) = self.view(bd)? {
-                        curves.extend(bv.curves.iter().map(|c| c.curve));
-                    }
-                }
-            }
-            View::Face(f) => {
-                for l in f.loops {
-                    if let View::Loop(lv) = self.view(l)? {
-                        for ed in lv.edges.iter().filter(|e| e.kind == 0) {
-                            if let View::EdgeList(el) = self.view(ed.list)? {
-                                let k = usize::try_from(ed.index - 1).ok();
-                                if let Some(edge) = k.and_then(|k| el.edges.get(k)) {
-                                    curves.push(edge.curve);
-                                }
-                            }
+        for bound in self.face_bounds(face)? {
+            match bound {
+                // The 142 itself converts to its model-space curve.
+                crate::bounds::FaceBound::Trim { bound, .. } => curves.push(bound),
+                crate::bounds::FaceBound::Edge { list, index } => {
+                    if let View::EdgeList(el) = self.view(list)? {
+                        let k = usize::try_from(index - 1).ok();
+                        if let Some(edge) = k.and_then(|k| el.edges.get(k)) {
+                            curves.push(edge.curve);
                         }
                     }
                 }
             }
-            _ => {}
         }
         let mut pts = Vec::new();
         for c in curves {

@@ -191,7 +191,7 @@ pub enum Error {
         reason: &'static str,
     },
     /// The entity's numbers do not make valid geometry.
-    #[error("entity DE {de}: {source}")]
+    #[error("entity DE {de}: invalid geometry")]
     Geometry {
         /// The entity.
         de: u32,

@@ -62,6 +62,8 @@
 //!
 //! The crate has no feature flags.
 
+mod bounds;
+mod cad;
 pub mod convert;
 mod document;
 mod edit;
@@ -71,6 +73,7 @@ mod global;
 mod read;
 pub mod write;
 
+pub use bounds::FaceBound;
 pub use convert::{FaceRef, NurbsInfo, SurfaceInfo};
 pub use document::{Directory, Document, Entity, EntityId, Param, Status, Value};
 pub use entity::View;

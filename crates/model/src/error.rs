@@ -1,37 +1,91 @@
 //! Errors of the model layer.
+//!
+//! One rule for wrapping: an error that has a cause returns it from
+//! [`source`](std::error::Error::source) and does not print it in its `Display`, so a
+//! chain printed cause by cause (the CLI does, [`cadmorph_brep::chain`] does) shows each
+//! message once.
+
+use std::path::PathBuf;
+
+use cadmorph_brep::EntityRef;
 
 /// What went wrong.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
-    /// The IGES layer failed (its error names section, line, column and entity).
-    #[error("IGES: {0}")]
-    Iges(#[from] cadmorph_iges::Error),
-    /// The STEP layer failed (its error names line, column and instance).
-    #[error("STEP: {0}")]
-    Step(#[from] cadmorph_step::Error),
+    /// A file could not be read.
+    #[error("reading {}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// A file could not be written.
+    #[error("writing {}", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// A file was read but its contents are not a valid document of its format.
+    #[error("reading {}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The format layer's error (names the position in the file).
+        source: cadmorph_brep::Error,
+    },
+    /// The input is neither IGES nor STEP.
+    #[error("{what}: not an IGES or STEP file")]
+    NotCad {
+        /// The file (or `bytes` for input given in memory), and why when the file is
+        /// empty.
+        what: String,
+    },
+    /// The output file's extension names no format this crate writes.
+    #[error("{}: the extension names no format cadmorph writes (use .igs, .iges, .stp, .step)", path.display())]
+    UnknownExtension {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The document layer (IGES or STEP) failed; its message is shown as it is.
+    #[error(transparent)]
+    Document(#[from] cadmorph_brep::Error),
     /// Seam repair failed.
-    #[error("seam repair: {0}")]
+    #[error("seam repair")]
     Seam(#[from] cadmorph_seam::Error),
     /// The morph sends a control point to NaN or infinity.
     #[error("the morph sends control point {point} of face {face} to a non-finite position")]
     NonFinite {
-        /// The face (its entity).
-        face: String,
+        /// The face.
+        face: EntityRef,
         /// Index of the control point.
         point: usize,
     },
     /// The morph folds space at a control point (its Jacobian determinant is not positive).
     #[error("the morph folds space at control point {point} of face {face} (Jacobian determinant {det:e})")]
     Folded {
-        /// The face (its entity).
-        face: String,
+        /// The face.
+        face: EntityRef,
         /// Index of the control point.
         point: usize,
         /// The determinant found.
         det: f64,
     },
-    /// Something this version cannot do yet for this format.
+    /// No patch with this index.
+    #[error("no patch {index} (the model has {len})")]
+    NoPatch {
+        /// The index asked for.
+        index: usize,
+        /// How many patches there are.
+        len: usize,
+    },
+    /// What was written does not read back as what was meant.
+    #[error("the written document reads back differently: {0}")]
+    ReadBack(String),
+    /// Something this version cannot do yet.
     #[error("{0}")]
     Unsupported(&'static str),
 }

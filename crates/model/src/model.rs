@@ -1,95 +1,54 @@
-//! The model: patches of an IGES or STEP document, seams, morph, save.
+//! The model: the faces of any [`CadDocument`] as patches, their shared edges, and the
+//! document they came from.
 
-use std::collections::{BTreeMap, HashSet};
-use std::fmt;
+use std::collections::BTreeMap;
 use std::ops::RangeInclusive;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use cadmorph_iges as iges;
-use cadmorph_morph::Deformation;
-use cadmorph_nurbs::math::Point3;
-use cadmorph_nurbs::{NurbsSurface, Surface};
+use cadmorph_brep::{BoundCurve, CadDocument, EntityRef, Face, Format, FreeCurve, ReadDocument, Skipped, Units};
+use cadmorph_nurbs::{NurbsCurve, NurbsSurface, Surface};
 use cadmorph_seam::{
-    make_compatible, measure_boundary, measure_edge, measure_edge_samples, refine_edges, refine_uniform, repair,
-    shared_boundaries, EdgeSamples, Face, SeamRefineOptions, SeamRefinement, SeamReport, SharedBoundary, TrimEdge,
+    measure_boundary, measure_edge, measure_edge_samples, EdgeSamples, Face as SeamFace, SeamReport, SharedBoundary,
+    TrimEdge,
 };
-use cadmorph_step as step;
 use serde::Serialize;
 
-use crate::topology::{iges_edges, iges_face_bounds, iges_reversed_faces, step_edges, step_face_patches, FaceBound};
+use crate::edges::{shared_edges, size_of};
 use crate::{Error, Result};
 
-/// The file format a model came from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub enum Format {
-    /// IGES 5.3 fixed format.
-    Iges,
-    /// ISO 10303-21 (STEP).
-    Step,
-}
+/// A face of the model: an exact NURBS patch in world coordinates and model units, tied
+/// to its entities (see [`cadmorph_brep::Face`]).
+pub type Patch = Face;
 
-/// The entities a patch came from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub enum Source {
-    /// IGES: the face entity (144, 143, 510, or the bare surface) and its surface entity.
-    Iges {
-        /// Face DE number.
-        face: u32,
-        /// Surface DE number.
-        surface: u32,
-    },
-    /// STEP: the face instance and its surface instance.
-    Step {
-        /// Face instance id.
-        face: u64,
-        /// Surface instance id.
-        surface: u64,
-    },
-}
-
-impl fmt::Display for Source {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Source::Iges { face, surface } if face == surface => write!(f, "DE {face}"),
-            Source::Iges { face, surface } => write!(f, "DE {face} (surface DE {surface})"),
-            Source::Step { face, surface } => write!(f, "#{face} (surface #{surface})"),
-        }
-    }
-}
-
-/// One face as a NURBS patch in world coordinates and model units.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Patch {
-    /// The exact NURBS form of the face's surface.
-    pub surface: NurbsSurface,
-    /// Face orientation opposite to the surface normal.
-    pub reversed: bool,
-    /// Where it came from.
-    pub source: Source,
-    /// The surface type as the file names it (IGES entity type, STEP surface kind).
-    pub kind: String,
-    /// Whether the file holds an analytic surface (plane, cylinder, ...) here.
-    pub analytic: bool,
-    /// Whether the face trims its surface.
-    pub trimmed: bool,
-}
-
-enum Doc {
-    Iges(Box<iges::Document>),
-    Step(Box<step::Document>),
-}
-
-/// An IGES or STEP document with its faces as patches.
-pub struct Model {
-    doc: Doc,
-    patches: Vec<Patch>,
-    skipped: Vec<(String, String)>,
-    unit: String,
+/// A CAD document with its faces as patches and the edges they share.
+///
+/// The model knows no file format: everything it reads and writes goes through the
+/// [`CadDocument`] trait, so the same code morphs, refines and measures IGES and STEP.
+/// `D` defaults to a boxed document of either format, as the facade's `cadmorph::open`
+/// returns it.
+///
+/// State is kept in memory: after a morph or an edit the patches and curves are what
+/// was written, without reading the file again. [`verify`](Self::verify) reads the
+/// written document back and measures it, for reports that must describe the file.
+pub struct Model<D: CadDocument = Box<dyn CadDocument>> {
+    pub(crate) doc: D,
+    pub(crate) faces: Vec<Face>,
+    pub(crate) skipped: Vec<Skipped>,
+    pub(crate) units: Units,
+    /// Curves bounding the faces (trims, B-rep edges), by face.
+    pub(crate) bounds: Vec<BoundCurve>,
+    /// Model-space curves bounding no face.
+    pub(crate) free: Vec<FreeCurve>,
     /// Coinciding iso-boundaries.
-    iso: Vec<SharedBoundary>,
+    pub(crate) iso: Vec<SharedBoundary>,
     /// Edges from the file's topology or trims that are not among `iso`.
-    trims: Vec<TrimEdge>,
+    pub(crate) trims: Vec<TrimEdge>,
+    /// Where the last morph measured its trim edges (face parameters) and the patch
+    /// domains then, so that [`verify`](Self::verify) measures the same surface points.
+    pub(crate) after_samples: Option<(Vec<EdgeSamples>, Vec<Domain>)>,
 }
+
+pub(crate) type Domain = (RangeInclusive<f64>, RangeInclusive<f64>);
 
 /// Progress of long model work (seam measurement, refinement, moving control points,
 /// writing), for a progress bar. Both methods default to doing nothing.
@@ -106,43 +65,13 @@ pub struct Silent;
 
 impl Progress for Silent {}
 
-/// Settings of [`Model::morph`].
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct MorphOptions {
-    /// Seam-driven refinement before the morph (gap and angle tolerances).
-    pub refine: Option<SeamRefineOptions>,
-    /// PyGeM-style refinement: this many evenly spaced knots per direction on every patch.
-    pub uniform_knots: Option<usize>,
-    /// Make knots compatible across shared edges before the morph and make the two
-    /// sides of every shared edge identical after it (exact C0, and G1 for
-    /// non-rational patches).
-    pub repair: bool,
-}
-
-/// What [`Model::morph`] did.
-#[derive(Debug, Clone, Serialize)]
-pub struct MorphOutcome {
-    /// Control points of all patches before.
-    pub control_points_before: usize,
-    /// Control points of all patches after (refinement adds some).
-    pub control_points_after: usize,
-    /// Faces whose entities were rewritten.
-    pub faces_rewritten: usize,
-    /// Model-space curves whose entities were rewritten.
-    pub curves_rewritten: usize,
-    /// The seam refinement's report, when it ran.
-    pub refinement: Option<SeamRefinement>,
-    /// Seams before the morph.
-    pub seams_before: SeamReport,
-    /// Seams of the written document, read back.
-    pub seams_after: SeamReport,
-}
-
 /// Per-face summary of [`Info`].
 #[derive(Debug, Clone, Serialize)]
 pub struct PatchInfo {
-    /// Where the face came from.
-    pub source: String,
+    /// The face entity.
+    pub face: EntityRef,
+    /// Its surface entity.
+    pub surface: EntityRef,
     /// Surface type as the file names it.
     pub kind: String,
     /// Degree in u of the exact NURBS form.
@@ -170,6 +99,8 @@ pub struct Info {
     pub format: Format,
     /// Length unit name.
     pub unit: String,
+    /// Metres per model unit.
+    pub metres_per_unit: f64,
     /// Entity (IGES type number) or instance (STEP name) counts.
     pub entity_counts: BTreeMap<String, usize>,
     /// IGES entities kept verbatim without a typed view.
@@ -177,166 +108,127 @@ pub struct Info {
     /// The faces.
     pub patches: Vec<PatchInfo>,
     /// Faces that could not be converted, with the reason.
-    pub skipped: Vec<(String, String)>,
+    pub skipped: Vec<Skipped>,
 }
 
-fn is_step(bytes: &[u8]) -> bool {
-    let start = bytes.iter().position(|b| !b.is_ascii_whitespace()).unwrap_or(bytes.len());
-    bytes[start..].starts_with(b"ISO-10303-21")
+/// What [`Model::verify`] found in the written document, read back.
+#[derive(Debug, Clone, Serialize)]
+pub struct Verification {
+    /// Seams of the document as read back (at the last morph's edge samples when the
+    /// faces kept their parameter domains, else found again).
+    pub seams: SeamReport,
+    /// Largest distance between a B-spline face's control point in memory and the one
+    /// read back (the file's number format; 0 for STEP's round-trip reals).
+    pub max_deviation: f64,
 }
 
-impl Model {
-    /// Reads an IGES or STEP document (told apart by the STEP header line) and converts
-    /// every face to a world-coordinate NURBS patch. Faces that cannot be converted are
-    /// kept in the file and listed by [`Info::skipped`].
+impl<D: ReadDocument> Model<D> {
+    /// Reads a document of format `D` from `bytes`; see [`new`](Model::new).
     ///
     /// # Errors
     ///
-    /// The reader's error, naming the position in the file.
+    /// The reader's error ([`Error::Document`]), naming the position in the input.
     pub fn from_bytes(bytes: &[u8]) -> Result<Self> {
-        if is_step(bytes) {
-            Self::from_step(step::Document::parse(bytes)?)
-        } else {
-            Self::from_iges(iges::Document::parse(bytes)?)
-        }
+        Model::new(D::from_bytes(bytes)?)
     }
 
-    /// Reads a file; see [`from_bytes`](Self::from_bytes).
+    /// Reads the file at `path` as a document of format `D`.
     ///
     /// # Errors
     ///
-    /// I/O errors are reported as unsupported input with the reason.
-    pub fn open(path: &Path) -> std::result::Result<Self, Box<dyn std::error::Error + Send + Sync>> {
-        let bytes = std::fs::read(path)?;
-        Ok(Self::from_bytes(&bytes)?)
+    /// [`Error::Io`] or [`Error::Read`] with the path.
+    pub fn open(path: &Path) -> Result<Self> {
+        let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_owned(), source })?;
+        let doc = D::from_bytes(&bytes).map_err(|source| Error::Read { path: path.to_owned(), source })?;
+        Model::new(doc).map_err(|e| match e {
+            Error::Document(source) => Error::Read { path: path.to_owned(), source },
+            other => other,
+        })
+    }
+}
+
+impl<D: CadDocument> Model<D> {
+    /// The model of `doc`: every face as a world-coordinate NURBS patch, the curves that
+    /// bound them, and the edges they share. Faces that cannot be converted stay in the
+    /// file untouched and are listed by [`Info::skipped`].
+    ///
+    /// # Errors
+    ///
+    /// The document's errors (units, topology).
+    pub fn new(doc: D) -> Result<Self> {
+        let set = doc.faces()?;
+        let units = doc.units()?;
+        let bounds = doc.bound_curves(&set.faces)?;
+        let free = doc.free_curves()?;
+        let (iso, trims) = shared_edges(&set.faces, &bounds);
+        Ok(Self { doc, faces: set.faces, skipped: set.skipped, units, bounds, free, iso, trims, after_samples: None })
     }
 
-    fn from_iges(doc: iges::Document) -> Result<Self> {
-        let mut patches = Vec::new();
-        let mut skipped = Vec::new();
-        let reversed = iges_reversed_faces(&doc);
-        for f in doc.faces() {
-            let source = Source::Iges { face: f.face.0, surface: f.surface.0 };
-            let kind = doc.entity(f.surface).map(|e| e.entity_type()).unwrap_or(0);
-            match doc.face_surface(&f) {
-                Ok(es) => patches.push(Patch {
-                    surface: es.surface,
-                    reversed: reversed.get(&f.face.0).copied().unwrap_or(false),
-                    source,
-                    kind: format!("IGES {kind}"),
-                    analytic: kind != 128,
-                    trimmed: f.trimmed,
-                }),
-                Err(e) => skipped.push((source.to_string(), e.to_string())),
-            }
-        }
-        let unit = doc.global().unit_name();
-        let tol = edge_tol(&patches);
-        let trims = iges_edges(&doc, &patches, tol);
-        Ok(Self::with_edges(Doc::Iges(Box::new(doc)), patches, skipped, unit, trims))
+    /// The document (as edited so far).
+    pub fn document(&self) -> &D {
+        &self.doc
     }
 
-    /// Finds the iso-boundary edges and keeps the topology edges that are not among them.
-    fn with_edges(
-        doc: Doc,
-        patches: Vec<Patch>,
-        skipped: Vec<(String, String)>,
-        unit: String,
-        trims: Vec<TrimEdge>,
-    ) -> Self {
-        let tol = edge_tol(&patches);
-        let refs: Vec<&NurbsSurface> = patches.iter().map(|p| &p.surface).collect();
-        let iso = shared_boundaries(&refs, tol, 64, 0.9);
-        let trims =
-            trims.into_iter().filter(|t| !iso.iter().any(|e| t.lies_on(e, &patches[e.a.patch].surface, tol))).collect();
-        Self { doc, patches, skipped, unit, iso, trims }
-    }
-
-    fn from_step(doc: step::Document) -> Result<Self> {
-        let mut patches = Vec::new();
-        let mut skipped = Vec::new();
-        for f in doc.faces()? {
-            let source = Source::Step { face: f.id.0, surface: f.surface.0 };
-            let analytic = !matches!(f.kind, step::SurfaceKind::BSpline { .. });
-            let kind = match &f.kind {
-                step::SurfaceKind::BSpline { .. } => "B_SPLINE_SURFACE".to_string(),
-                other => format!("{other:?}"),
-            };
-            match doc.face_nurbs(&f) {
-                Ok(ws) => patches.push(Patch {
-                    surface: ws.surface,
-                    reversed: !f.same_sense,
-                    source,
-                    kind,
-                    analytic,
-                    trimmed: true,
-                }),
-                Err(e) => skipped.push((source.to_string(), e.to_string())),
-            }
-        }
-        let unit = doc.units()?.length.name;
-        let trims = match step_edges(&doc, &patches) {
-            Ok(t) => t,
-            Err(e) => {
-                skipped.push(("edges".to_owned(), e.to_string()));
-                Vec::new()
-            }
-        };
-        Ok(Self::with_edges(Doc::Step(Box::new(doc)), patches, skipped, unit, trims))
+    /// The document, giving up the model.
+    pub fn into_document(self) -> D {
+        self.doc
     }
 
     /// The file format.
     pub fn format(&self) -> Format {
-        match self.doc {
-            Doc::Iges(_) => Format::Iges,
-            Doc::Step(_) => Format::Step,
-        }
+        self.doc.format()
     }
 
     /// The faces as patches, in file order.
     pub fn patches(&self) -> &[Patch] {
-        &self.patches
+        &self.faces
+    }
+
+    /// The curves that bound the faces (trims, B-rep edges), one per face using each.
+    pub fn bound_curves(&self) -> &[BoundCurve] {
+        &self.bounds
+    }
+
+    /// The model's units.
+    pub fn units(&self) -> &Units {
+        &self.units
     }
 
     /// The name of the length unit.
     pub fn unit(&self) -> &str {
-        &self.unit
+        &self.units.name
     }
 
     /// The diagonal of the box around all control points (the model size).
     pub fn size(&self) -> f64 {
-        size_of(&self.patches)
+        size_of(&self.faces)
     }
 
     /// A summary: format, unit, entity counts, faces.
     pub fn info(&self) -> Info {
-        let (entity_counts, unknown_entities) = match &self.doc {
-            Doc::Iges(d) => {
-                (d.counts_by_type().into_iter().map(|(k, v)| (k.to_string(), v)).collect(), d.unknown_entities().len())
-            }
-            Doc::Step(d) => (d.entity_counts(), 0),
-        };
         let patches = self
-            .patches
+            .faces
             .iter()
             .map(|p| PatchInfo {
-                source: p.source.to_string(),
-                kind: p.kind.clone(),
+                face: p.entity,
+                surface: p.surface_entity,
+                kind: p.type_name.clone(),
                 u_degree: p.surface.u_degree(),
                 v_degree: p.surface.v_degree(),
                 n_u: p.surface.n_u(),
                 n_v: p.surface.n_v(),
                 rational: p.surface.is_rational(),
-                analytic: p.analytic,
+                analytic: p.kind.is_analytic(),
                 trimmed: p.trimmed,
                 reversed: p.reversed,
             })
             .collect();
         Info {
             format: self.format(),
-            unit: self.unit.clone(),
-            entity_counts,
-            unknown_entities,
+            unit: self.units.name.clone(),
+            metres_per_unit: self.units.metres_per_unit,
+            entity_counts: self.doc.entity_counts(),
+            unknown_entities: self.doc.unknown_entities(),
             patches,
             skipped: self.skipped.clone(),
         }
@@ -357,22 +249,20 @@ impl Model {
         &self.trims
     }
 
-    /// The seams after a morph: iso edges found again, trim edges at the face parameters
-    /// they had before (`samples`), when the faces kept their parameter domains;
-    /// otherwise the trim edges found again.
-    fn seams_at(
-        &self,
-        samples: &[EdgeSamples],
-        domains: &[(RangeInclusive<f64>, RangeInclusive<f64>)],
-        progress: &dyn Progress,
-    ) -> SeamReport {
-        let now: Vec<_> = self.patches.iter().map(|p| p.surface.domain()).collect();
+    pub(crate) fn seam_faces(&self) -> Vec<SeamFace<'_>> {
+        self.faces.iter().map(|p| SeamFace { surface: &p.surface, reversed: p.reversed }).collect()
+    }
+
+    /// The seams at the trim edges' face parameters `samples` (taken before a morph),
+    /// when the faces still have the parameter `domains` they had then; otherwise the
+    /// edges found again.
+    pub(crate) fn seams_at(&self, samples: &[EdgeSamples], domains: &[Domain], progress: &dyn Progress) -> SeamReport {
+        let now: Vec<_> = self.faces.iter().map(|p| p.surface.domain()).collect();
         if now != domains {
             return self.seams_with_progress(200, progress);
         }
         progress.start("measuring seams", (self.iso.len() + samples.len()) as u64);
-        let faces: Vec<Face> =
-            self.patches.iter().map(|p| Face { surface: &p.surface, reversed: p.reversed }).collect();
+        let faces = self.seam_faces();
         let iso = self.iso.iter().map(|e| measure_boundary(&faces, e, 200));
         let trims = samples.iter().map(|s| measure_edge_samples(&faces, s));
         SeamReport::new(iso.chain(trims).inspect(|_| progress.step(1)).collect())
@@ -386,516 +276,158 @@ impl Model {
     /// [`seams`](Self::seams), reporting each edge measured to `progress`.
     pub fn seams_with_progress(&self, samples: usize, progress: &dyn Progress) -> SeamReport {
         progress.start("measuring seams", (self.iso.len() + self.trims.len()) as u64);
-        let faces: Vec<Face> =
-            self.patches.iter().map(|p| Face { surface: &p.surface, reversed: p.reversed }).collect();
+        let faces = self.seam_faces();
         let iso = self.iso.iter().map(|e| measure_boundary(&faces, e, samples));
         let trims = self.trims.iter().map(|e| measure_edge(&faces, e, samples));
         SeamReport::new(iso.chain(trims).inspect(|_| progress.step(1)).collect())
     }
 
+    /// Finds the shared edges again from the patches and curves in memory.
+    pub(crate) fn rebuild_edges(&mut self) {
+        let (iso, trims) = shared_edges(&self.faces, &self.bounds);
+        self.iso = iso;
+        self.trims = trims;
+    }
+
+    /// Writes `s` (world coordinates, model units) as the surface of patch `index`, and
+    /// re-traces the curves that bound it on the new surface (in the face's parameters:
+    /// each curve point keeps its `(u, v)` on the face), so the face's trims and edges
+    /// stay on it. An analytic face first becomes its exact B-spline form. A curve the
+    /// face shares with a neighbour is traced on this face; keep the neighbour's side
+    /// along it yourself. Returns the number of curves rewritten.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::NoPatch`]; the document's errors (non-finite values, ...).
+    pub fn set_patch_surface(&mut self, index: usize, s: NurbsSurface) -> Result<usize> {
+        let len = self.faces.len();
+        let face = self.faces.get(index).ok_or(Error::NoPatch { index, len })?.clone();
+        let mut written = face.clone();
+        if face.kind.is_analytic() {
+            self.doc.bspline_form(&face)?;
+            written.kind = cadmorph_brep::SurfaceKind::BSpline;
+        }
+        self.doc.set_face_surface(&written, &s)?;
+        let tol = 1e-7 * self.size();
+        let identity = cadmorph_morph::Affine::identity();
+        let mut n = 0;
+        let mut done: Vec<EntityRef> = Vec::new();
+        for k in 0..self.bounds.len() {
+            let b = &self.bounds[k];
+            if b.face != index {
+                continue;
+            }
+            let traced = crate::trace::follow_face(&b.curve, &face.surface, &s, &identity, tol);
+            let Some(c) = traced.filter(|c| *c != b.curve) else { continue };
+            if let Some(t) = b.target {
+                if !done.contains(&t) && self.doc.set_bound_curve(b, &c)? {
+                    n += 1;
+                }
+                done.push(t);
+            }
+            self.set_bound_in_memory(k, c);
+        }
+        written.surface = s;
+        self.faces[index] = written;
+        self.rebuild_edges();
+        Ok(n)
+    }
+
+    /// Puts curve `c` in place of bound curve `k` and of every other bound curve with the
+    /// same target and piece (the same edge seen from its other face). A range that was
+    /// the whole curve becomes the new curve's whole domain.
+    pub(crate) fn set_bound_in_memory(&mut self, k: usize, c: NurbsCurve) {
+        let (target, piece) = (self.bounds[k].target, self.bounds[k].piece);
+        let d = cadmorph_nurbs::Curve::domain(&c);
+        for (j, b) in self.bounds.iter_mut().enumerate() {
+            if j == k || (target.is_some() && b.target == target && b.piece == piece) {
+                let d0 = cadmorph_nurbs::Curve::domain(&b.curve);
+                if b.range == (*d0.start(), *d0.end()) {
+                    b.range = (*d.start(), *d.end());
+                }
+                b.curve = c.clone();
+            }
+        }
+    }
+
     /// The document as bytes: the input, byte for byte, where nothing was edited.
     pub fn to_bytes(&self) -> Vec<u8> {
-        match &self.doc {
-            Doc::Iges(d) => d.write(),
-            Doc::Step(d) => d.write(),
-        }
+        self.doc.to_bytes()
     }
 
     /// Writes the document to `path` through a temporary file in the same folder and a
-    /// rename, so a failure never leaves half a file.
+    /// rename, so a failure never leaves half a file. The file's extension must be one
+    /// of the document's format (`.igs`/`.iges` for IGES, `.stp`/`.step`/`.p21` for
+    /// STEP); use [`save_as`](Self::save_as) to write another format.
     ///
     /// # Errors
     ///
-    /// I/O errors.
-    pub fn save(&self, path: &Path) -> std::io::Result<()> {
-        let bytes = self.to_bytes();
-        let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-        std::fs::write(&tmp, &bytes)?;
-        std::fs::rename(&tmp, path).inspect_err(|_| {
-            let _ = std::fs::remove_file(&tmp);
-        })
+    /// [`Error::UnknownExtension`] for an extension of no format or of the other format
+    /// (nothing is written), [`Error::Write`].
+    pub fn save(&self, path: &Path) -> Result<()> {
+        match Format::from_extension(path) {
+            Some(f) if f == self.format() => write_atomic(path, &self.to_bytes()),
+            _ => Err(Error::UnknownExtension { path: path.to_owned() }),
+        }
     }
 
-    /// Inserts knots without moving anything: evenly spaced (`opts.uniform_knots`) or
-    /// where the morph `d` needs them to keep the seams (`opts.refine`), and rewrites the
-    /// refined B-spline faces. The geometry does not change. Returns the control points
-    /// before and after.
+    /// Reads what was written back into a new document of the same format and measures
+    /// it: the seams (at the last morph's edge samples when the faces kept their
+    /// parameter domains) and the largest control-point difference to the patches in
+    /// memory.
     ///
     /// # Errors
     ///
-    /// [`Error::Unsupported`] for seam refinement without a morph; the file layer's errors.
-    pub fn refine(&mut self, opts: &MorphOptions, d: Option<&dyn Deformation>) -> Result<(usize, usize)> {
-        let before: usize = self.patches.iter().map(|p| p.surface.control_points().len()).sum();
-        let mut patches: Vec<NurbsSurface> = self.patches.iter().map(|p| p.surface.clone()).collect();
-        if let Some(n) = opts.uniform_knots {
-            for (s, p) in patches.iter_mut().zip(&self.patches) {
-                if !p.analytic {
-                    refine_uniform(s, n)?;
-                }
+    /// [`Error::ReadBack`] when the document does not read back with the same faces;
+    /// the reader's errors.
+    pub fn verify(&self) -> Result<Verification> {
+        let back = Model::new(self.doc.read_back()?)?;
+        if back.faces.len() != self.faces.len() {
+            return Err(Error::ReadBack(format!(
+                "{} faces in memory, {} read back",
+                self.faces.len(),
+                back.faces.len()
+            )));
+        }
+        let mut max_deviation = 0.0f64;
+        for (a, b) in self.faces.iter().zip(&back.faces) {
+            if a.entity != b.entity {
+                return Err(Error::ReadBack(format!("face {} reads back as {}", a.entity, b.entity)));
+            }
+            // An analytic face's patch spans the box of its edges, which edits of its
+            // neighbours move: only B-spline faces are held to what was written.
+            if a.kind.is_analytic() {
+                continue;
+            }
+            if a.surface.control_points().len() != b.surface.control_points().len() {
+                return Err(Error::ReadBack(format!("face {} reads back with other poles", a.entity)));
+            }
+            for (p, q) in a.surface.control_points().iter().zip(b.surface.control_points()) {
+                max_deviation = max_deviation.max((p - q).norm());
             }
         }
-        if let Some(r) = opts.refine {
-            let d = d.ok_or(Error::Unsupported("seam refinement needs the morph it refines for"))?;
-            refine_edges(&mut patches, &self.iso, &self.trims, d, &r);
-        }
-        // Analytic faces keep their exact analytic form: inserting knots does not change
-        // the geometry, and a plane or cylinder needs none until it moves.
-        match &mut self.doc {
-            Doc::Iges(doc) => {
-                for (p, s) in self.patches.iter().zip(&patches) {
-                    if let (Source::Iges { surface, .. }, false) = (p.source, p.analytic) {
-                        if s != &p.surface {
-                            doc.set_bspline_surface(iges::EntityId(surface), s)?;
-                        }
-                    }
-                }
-            }
-            Doc::Step(doc) => {
-                let faces = doc.faces()?;
-                for (p, s) in self.patches.iter().zip(&patches) {
-                    if let (Source::Step { face, .. }, false) = (p.source, p.analytic) {
-                        if s != &p.surface {
-                            if let Some(f) = faces.iter().find(|f| f.id.0 == face) {
-                                doc.set_face_surface(f, s)?;
-                            }
-                        }
-                    }
-                }
-            }
-        }
-        *self = Model::from_bytes(&self.to_bytes())?;
-        Ok((before, self.patches.iter().map(|p| p.surface.control_points().len()).sum()))
-    }
-
-    /// Morphs the model with `d`: optional refinement and repair (see [`MorphOptions`]),
-    /// then every control point of every face moves with `d` (weights kept), the
-    /// model-space trimming curves follow, analytic faces that move are first replaced
-    /// by their exact B-spline form, and only the entities that changed are rewritten.
-    /// A morph that moves nothing leaves the document byte-identical.
-    ///
-    /// # Errors
-    ///
-    /// [`Error::NonFinite`] or [`Error::Folded`] before anything is changed; the file
-    /// layers' errors.
-    pub fn morph(&mut self, d: &dyn Deformation, opts: &MorphOptions) -> Result<MorphOutcome> {
-        self.morph_with_progress(d, opts, &Silent)
-    }
-
-    /// [`morph`](Self::morph), reporting its stages to `progress`.
-    ///
-    /// # Errors
-    ///
-    /// Those of [`morph`](Self::morph).
-    pub fn morph_with_progress(
-        &mut self,
-        d: &dyn Deformation,
-        opts: &MorphOptions,
-        progress: &dyn Progress,
-    ) -> Result<MorphOutcome> {
-        let edges = self.iso.clone();
-        let seams_before = self.seams_with_progress(200, progress);
-        // Where the trim edges lie on their faces, in the faces' parameters: the seams
-        // after the morph are measured there, between the faces' own trimmed boundaries.
-        let faces: Vec<Face> =
-            self.patches.iter().map(|p| Face { surface: &p.surface, reversed: p.reversed }).collect();
-        let trim_samples: Vec<EdgeSamples> = self.trims.iter().map(|e| e.samples(&faces, 200)).collect();
-        let domains: Vec<_> = self.patches.iter().map(|p| p.surface.domain()).collect();
-        let before: usize = self.patches.iter().map(|p| p.surface.control_points().len()).sum();
-        let mut patches: Vec<NurbsSurface> = self.patches.iter().map(|p| p.surface.clone()).collect();
-        if opts.repair {
-            make_compatible(&mut patches, &edges)?;
-        }
-        if let Some(n) = opts.uniform_knots {
-            for s in &mut patches {
-                refine_uniform(s, n)?;
-            }
-        }
-        let refinement = opts.refine.map(|r| {
-            progress.start("refining", 0);
-            refine_edges(&mut patches, &edges, &self.trims, d, &r)
-        });
-        let refined = patches.clone();
-        progress.start("moving control points", patches.len() as u64);
-        // Move and check every control point before touching the document.
-        for (p, s) in self.patches.iter().zip(&mut patches) {
-            for (i, q) in s.control_points_mut().iter_mut().enumerate() {
-                if let Some(j) = d.jacobian(q) {
-                    let det = j.determinant();
-                    if det.is_nan() || det <= 0.0 {
-                        return Err(Error::Folded { face: p.source.to_string(), point: i, det });
-                    }
-                }
-                let moved = d.deform_point(q);
-                if !moved.coords.iter().all(|c| c.is_finite()) {
-                    return Err(Error::NonFinite { face: p.source.to_string(), point: i });
-                }
-                *q = moved;
-            }
-            progress.step(1);
-        }
-        if opts.repair {
-            for e in &edges {
-                if e.a.patch == e.b.patch {
-                    continue;
-                }
-                let (lo, hi) = (e.a.patch.min(e.b.patch), e.a.patch.max(e.b.patch));
-                let (left, right) = patches.split_at_mut(hi);
-                let (x, y) = (&mut left[lo], &mut right[0]);
-                let (a, b) = if e.a.patch == lo { (x, y) } else { (y, x) };
-                match repair(a, b, e, true) {
-                    Ok(_) | Err(cadmorph_seam::Error::PartialEdge { .. }) => {}
-                    Err(other) => return Err(other.into()),
-                }
-            }
-        }
-        progress.start("writing", 0);
-        let (faces_rewritten, curves_rewritten) = match &mut self.doc {
-            Doc::Iges(doc) => write_iges(doc, &self.patches, &refined, &patches, d)?,
-            Doc::Step(doc) => write_step(doc, &self.patches, &refined, &patches, d, opts.repair)?,
+        let seams = match &self.after_samples {
+            Some((samples, domains)) => back.seams_at(samples, domains, &Silent),
+            None => back.seams(200),
         };
-        // Read the written document back: the report describes what was written.
-        *self = Model::from_bytes(&self.to_bytes())?;
-        let after: usize = self.patches.iter().map(|p| p.surface.control_points().len()).sum();
-        Ok(MorphOutcome {
-            control_points_before: before,
-            control_points_after: after,
-            faces_rewritten,
-            curves_rewritten,
-            refinement,
-            seams_before,
-            seams_after: self.seams_at(&trim_samples, &domains, progress),
-        })
+        Ok(Verification { seams, max_deviation })
     }
 }
 
-fn size_of(patches: &[Patch]) -> f64 {
-    let pts = patches.iter().flat_map(|p| p.surface.control_points());
-    cadmorph_nurbs::Aabb::from_points(pts).map_or(0.0, |b| b.diagonal())
-}
-
-/// How far apart two sides may be and still be one edge: `1e-3 ×` the model size.
-fn edge_tol(patches: &[Patch]) -> f64 {
-    1e-3 * size_of(patches)
-}
-
-fn moved_by(d: &dyn Deformation, pts: &[Point3<f64>]) -> bool {
-    pts.iter().any(|p| d.deform_point(p) != *p)
-}
-
-/// The knots `refined` has beyond `base` in each direction, to insert into `target`
-/// (another copy of `base`'s geometry, such as the B-spline an analytic face becomes);
-/// `None` when `target` does not have `base`'s knots, so the insertion would not mean
-/// the same there.
-fn inserted_knots(base: &NurbsSurface, refined: &NurbsSurface, target: &NurbsSurface) -> Option<(Vec<f64>, Vec<f64>)> {
-    let same = |a: &cadmorph_nurbs::KnotVector, b: &cadmorph_nurbs::KnotVector| {
-        a.len() == b.len()
-            && a.as_slice().iter().zip(b.as_slice()).all(|(x, y)| (x - y).abs() <= 1e-12 * (1.0 + x.abs()))
-    };
-    if base.u_degree() != target.u_degree()
-        || base.v_degree() != target.v_degree()
-        || !same(base.u_knots(), target.u_knots())
-        || !same(base.v_knots(), target.v_knots())
-    {
-        return None;
-    }
-    let extra = |from: &[f64], to: &[f64]| {
-        let mut out = Vec::new();
-        let mut i = 0;
-        for &k in to {
-            if i < from.len() && from[i] == k {
-                i += 1;
-            } else {
-                out.push(k);
-            }
-        }
-        out
-    };
-    Some((
-        extra(base.u_knots().as_slice(), refined.u_knots().as_slice()),
-        extra(base.v_knots().as_slice(), refined.v_knots().as_slice()),
-    ))
-}
-
-/// `target` (another copy of `base`'s geometry) with the knots that took `base` to
-/// `refined`; `target` itself where the two do not match.
-fn refined_like(base: &NurbsSurface, refined: &NurbsSurface, target: &NurbsSurface) -> NurbsSurface {
-    let mut out = target.clone();
-    if let Some((xu, xv)) = inserted_knots(base, refined, target) {
-        if out.refine_u(&xu).is_err() || out.refine_v(&xv).is_err() {
-            return target.clone();
-        }
-    }
-    out
-}
-
-fn write_iges(
-    doc: &mut iges::Document,
-    old: &[Patch],
-    refined: &[NurbsSurface],
-    new: &[NurbsSurface],
-    d: &dyn Deformation,
-) -> Result<(usize, usize)> {
-    let mut faces = 0;
-    for ((p, r), s) in old.iter().zip(refined).zip(new) {
-        let Source::Iges { surface, .. } = p.source else { continue };
-        let id = iges::EntityId(surface);
-        if s == &p.surface {
-            continue;
-        }
-        if p.analytic {
-            // The exact B-spline form in the entity's own extent (the trims are rewritten
-            // to match), then moved.
-            if !moved_by(d, p.surface.control_points()) {
-                continue;
-            }
-            doc.replace_with_bspline(id)?;
-            // The refinement (seam-driven or uniform) carries over where the B-spline the
-            // entity becomes has the knots of the patch it was planned on.
-            let mut b = refined_like(&p.surface, r, &doc.surface(id)?.surface);
-            d.deform(b.control_points_mut());
-            doc.set_bspline_surface(id, &b)?;
-        } else {
-            doc.set_bspline_surface(id, s)?;
-        }
-        faces += 1;
-    }
-    // Curves that bound faces (trims, B-rep edges) are traced on their morphed face;
-    // any other model-space 126 moves its control points.
-    let tol = 1e-7 * size_of(old);
-    let mut n_curves = 0;
-    let mut traced: HashSet<u32> = HashSet::new();
-    for (id, patch) in face_curves(doc, old) {
-        let Ok(pieces) = doc.curve(id) else { continue };
-        let [c] = pieces.as_slice() else { continue };
-        if !moved_by(d, c.control_points()) || !traced.insert(id.0) {
-            continue;
-        }
-        if let Some(new_curve) = follow_face(c, &old[patch].surface, &new[patch], d, tol) {
-            if doc.set_bspline_curve(id, &new_curve)? {
-                n_curves += 1;
-            }
-        }
-    }
-    let mut curves: Vec<iges::EntityId> = Vec::new();
-    for e in doc.entities() {
-        match e.entity_type() {
-            126 if e.directory().status.subordinate == 0 && e.directory().status.entity_use != 5 => curves.push(e.id()),
-            142 => {
-                if let Ok(iges::View::CurveOnSurface(c)) = doc.view(e.id()) {
-                    if let Some(m) = c.model_curve {
-                        if doc.entity(m).map(|x| x.entity_type()) == Ok(126) {
-                            curves.push(m);
-                        }
-                    }
-                }
-            }
-            _ => {}
-        }
-    }
-    curves.sort_by_key(|c| c.0);
-    curves.dedup();
-    for id in curves.into_iter().filter(|id| !traced.contains(&id.0)) {
-        let Ok(pieces) = doc.curve(id) else { continue };
-        let [c] = pieces.as_slice() else { continue };
-        let pts = d.deformed(c.control_points());
-        if doc.set_control_points(id, &pts, c.weights())? {
-            n_curves += 1;
-        }
-    }
-    Ok((faces, n_curves))
-}
-
-/// The model-space curves that bound faces, each with the (first) patch it bounds: 142
-/// model curves of 144 faces, 141 curves of 143 faces, edges of 504 lists used by the
-/// loops of 510 faces; composite curves (102) give their members.
-fn face_curves(doc: &iges::Document, patches: &[Patch]) -> Vec<(iges::EntityId, usize)> {
-    let mut out = Vec::new();
-    for (pi, bound) in iges_face_bounds(doc, patches) {
-        let curve = match bound {
-            FaceBound::Trim { curve, .. } => curve,
-            FaceBound::Edge { list, index } => {
-                let Ok(iges::View::EdgeList(el)) = doc.view(list) else { continue };
-                let edge = usize::try_from(index).ok().and_then(|k| k.checked_sub(1)).and_then(|k| el.edges.get(k));
-                let Some(edge) = edge else { continue };
-                edge.curve
-            }
-        };
-        match doc.view(curve) {
-            Ok(iges::View::CompositeCurve(c)) => out.extend(c.curves.into_iter().map(|m| (m, pi))),
-            _ => out.push((curve, pi)),
-        }
-    }
-    out
-}
-
-/// The curve `c`, lying on `before`, made to lie on `after` (the same face morphed, in the
-/// same parameters): its control points moved by `d` where that stays within `tol` of
-/// the face's image of the curve (always for affine maps and for iso-boundaries that
-/// share the face's knots), else a cubic fit of that image within `tol`. `None` when
-/// neither works (the curve is left as it is).
-fn follow_face(
-    c: &cadmorph_nurbs::NurbsCurve,
-    before: &NurbsSurface,
-    after: &NurbsSurface,
-    d: &dyn Deformation,
-    tol: f64,
-) -> Option<cadmorph_nurbs::NurbsCurve> {
-    use cadmorph_nurbs::Curve;
-    let dom = c.domain();
-    let (t0, t1) = (*dom.start(), *dom.end());
-    let size = before.control_extent().max(1.0);
-    let ptol = 1e-12 * size;
-    let last = std::cell::Cell::new(None::<(f64, f64)>);
-    let image = |t: f64| {
-        let pr = before.project_near(&c.eval(t), last.get(), ptol, 1e-6 * size);
-        last.set(Some((pr.u, pr.v)));
-        after.eval(pr.u, pr.v)
-    };
-    let mut moved = c.clone();
-    d.deform(moved.control_points_mut());
-    let n = 8 * moved.control_points().len() + 1;
-    let off = (0..n).map(|k| t0 + (t1 - t0) * k as f64 / (n - 1) as f64).map(|t| (moved.eval(t) - image(t)).norm());
-    if off.fold(0.0, f64::max) <= tol {
-        return Some(moved);
-    }
-    // The image bends where the curve crosses a knot line of the morphed face: break the
-    // fit there.
-    // Parameters on the face, each search started from a nearby known answer.
-    let uv = |t: f64, near: Option<(f64, f64)>| {
-        let pr = before.project_near(&c.eval(t), near, ptol, 1e-6 * size);
-        (pr.u, pr.v)
-    };
-    let spans = |(u, v): (f64, f64)| {
-        (after.u_knots().find_span(after.u_degree(), u), after.v_knots().find_span(after.v_degree(), v))
-    };
-    let crossings = after.u_knots().len() + after.v_knots().len();
-    let m = (8 * crossings).clamp(32, 1024);
-    let ts: Vec<f64> = (0..=m).map(|k| t0 + (t1 - t0) * k as f64 / m as f64).collect();
-    let mut uvs: Vec<(f64, f64)> = Vec::with_capacity(ts.len());
-    for &t in &ts {
-        let near = uvs.last().copied();
-        uvs.push(uv(t, near));
-    }
-    let mut breaks = Vec::new();
-    for k in 0..m {
-        let cell = spans(uvs[k]);
-        if cell == spans(uvs[k + 1]) {
-            continue;
-        }
-        let (mut lo, mut hi) = (ts[k], ts[k + 1]);
-        let mut near = uvs[k];
-        for _ in 0..40 {
-            let mid = 0.5 * (lo + hi);
-            let at = uv(mid, Some(near));
-            if spans(at) == cell {
-                lo = mid;
-                near = at;
-            } else {
-                hi = mid;
-            }
-        }
-        breaks.push(0.5 * (lo + hi));
-    }
-    last.set(None);
-    match cadmorph_nurbs::fit_curve(image, (t0, t1), &breaks, 3, tol, 4 * (breaks.len() + 1) * 16 + 64) {
-        Ok((f, _)) => Some(f),
-        // Moved control points at least follow the morph, if not the face exactly.
-        Err(_) => Some(moved),
-    }
-}
-
-/// STEP: refined faces are rewritten first (unmoved), analytic faces that move become
-/// B-splines, then the document's own morph moves every control point once and
-/// rebuilds the edges on the morphed faces; repaired faces are written last.
-fn write_step(
-    doc: &mut step::Document,
-    old: &[Patch],
-    refined: &[NurbsSurface],
-    new: &[NurbsSurface],
-    d: &dyn Deformation,
-    repaired: bool,
-) -> Result<(usize, usize)> {
-    let changed = old.iter().zip(new).filter(|(p, s)| p.surface != **s).count();
-    if changed == 0 {
-        return Ok((0, 0));
-    }
-    let faces = doc.faces()?;
-    let face_of = |p: &Patch| match p.source {
-        Source::Step { face, .. } => faces.iter().find(|f| f.id.0 == face).cloned(),
-        Source::Iges { .. } => None,
-    };
-    for (p, r) in old.iter().zip(refined) {
-        if !p.analytic && r != &p.surface {
-            if let Some(f) = face_of(p) {
-                doc.set_face_surface(&f, r)?;
-            }
-        }
-    }
-    let mut replaced = Vec::new();
-    for f in &faces {
-        let analytic = !matches!(f.kind, step::SurfaceKind::BSpline { .. });
-        if analytic {
-            if let Ok(ws) = doc.face_nurbs(f) {
-                if moved_by(d, ws.surface.control_points()) {
-                    doc.replace_with_bspline(f)?;
-                    replaced.push((f.id, f.occurrence));
-                }
-            }
-        }
-    }
-    // Carry the refinement planned on each replaced face's patch over to its new B-spline.
-    if !replaced.is_empty() {
-        for g in doc.faces()? {
-            if !replaced.contains(&(g.id, g.occurrence)) {
-                continue;
-            }
-            let source = Source::Step { face: g.id.0, surface: g.surface.0 };
-            let Some((p, r)) = old.iter().zip(refined).find(|(p, r)| p.source == source && p.surface != **r) else {
-                continue;
-            };
-            let b = doc.face_nurbs(&g)?.surface;
-            let target = refined_like(&p.surface, r, &b);
-            if target != b {
-                doc.set_face_surface(&g, &target)?;
-            }
-        }
-    }
-    // Edge curves: the document's recompute keeps each curve's knots, which follows the
-    // face only where the edge is an iso-boundary with the face's knots (a straight edge
-    // stays straight). So every edge is also traced on its first morphed face before the
-    // morph (control points moved where that stays within tolerance, else a fit) and
-    // written after it.
-    let faces = doc.faces()?;
-    let patch_of = step_face_patches(&faces, old);
-    let tol = 1e-7 * size_of(old);
-    let mut traced = Vec::new();
-    for e in doc.edges(&faces)? {
-        let Some(patch) = e.faces.iter().find_map(|&f| patch_of[f]) else { continue };
-        let Ok(wc) = doc.edge_curve(&e) else { continue };
-        if !moved_by(d, wc.curve.control_points()) {
-            continue;
-        }
-        if let Some(c) = follow_face(&wc.curve, &old[patch].surface, &new[patch], d, tol) {
-            if !c.is_rational() {
-                traced.push((e, c));
-            }
-        }
-    }
-    let report = doc.morph(&|p: &Point3<f64>| d.deform_point(p), step::EdgePolicy::default())?;
-    doc.set_edge_curves(&traced)?;
-    if repaired {
-        let faces = doc.faces()?;
-        for (p, s) in old.iter().zip(new) {
-            if p.analytic {
-                continue;
-            }
-            let Source::Step { face, .. } = p.source else { continue };
-            if let Some(f) = faces.iter().find(|f| f.id.0 == face) {
-                doc.set_face_surface(f, s)?;
-            }
-        }
-    }
-    Ok((changed, report.edges))
+/// Writes `bytes` to `path` through a temporary file in the same folder and a rename,
+/// so a failure never leaves half a file.
+///
+/// # Errors
+///
+/// [`Error::Write`] with the path.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let err = |source| Error::Write { path: path.to_owned(), source };
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let tmp: PathBuf = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    std::fs::write(&tmp, bytes).map_err(err)?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        err(e)
+    })
 }

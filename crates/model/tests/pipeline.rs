@@ -2,15 +2,34 @@
 //! morph of the hull with and without refinement, zero morphs, and OCCT reading the
 //! written files.
 
-use cadmorph_model::{Model, MorphOptions};
+use cadmorph_model::{CadDocument, Model, MorphOptions};
 use cadmorph_morph::math::Vector3;
 use cadmorph_morph::{Affine, Ffd};
 use cadmorph_nurbs::Surface;
 use cadmorph_seam::SeamRefineOptions;
 use cadmorph_testkit::sample;
 
+/// The document of `bytes`, IGES or STEP by the file name's extension.
+fn doc(name: &str, bytes: &[u8]) -> Box<dyn CadDocument> {
+    if name.ends_with(".stp") {
+        Box::new(cadmorph_step::Document::parse(bytes).unwrap())
+    } else {
+        Box::new(cadmorph_iges::Document::parse(bytes).unwrap())
+    }
+}
+
 fn open(name: &str) -> Model {
-    Model::from_bytes(&std::fs::read(sample(name)).unwrap()).unwrap()
+    open_path(&sample(name))
+}
+
+fn open_path(path: &std::path::Path) -> Model {
+    let name = path.to_string_lossy().into_owned();
+    Model::new(doc(&name, &std::fs::read(path).unwrap())).unwrap()
+}
+
+/// The model of what `m` wrote, read back.
+fn reread(m: &Model) -> Model {
+    Model::new(m.document().read_back().unwrap()).unwrap()
 }
 
 fn bow_dome() -> Ffd {
@@ -92,7 +111,7 @@ fn zero_morph_writes_the_input_unchanged() {
     let zero = Affine::identity();
     for name in ["hull3.igs", "mixed_solid.igs", "hull3.stp", "mixed_solid.stp"] {
         let bytes = std::fs::read(sample(name)).unwrap();
-        let mut m = Model::from_bytes(&bytes).unwrap();
+        let mut m = Model::new(doc(name, &bytes)).unwrap();
         m.morph(&zero, &MorphOptions::default()).unwrap();
         assert!(m.to_bytes() == bytes, "{name} changed under the identity");
     }
@@ -181,7 +200,7 @@ fn every_face_of_the_mixed_solid_moves() {
             let mid = s.eval((ud.start() + ud.end()) / 2.0, (vd.start() + vd.end()) / 2.0);
             let moved = cadmorph_morph::Deformation::deform_point(&ffd, &mid);
             assert!((moved - mid).norm() > 1e-6 * size, "{name} face {i}: the FFD does not move it");
-            assert!(p.surface != *s, "{name} face {i} ({}) was left behind", p.kind);
+            assert!(p.surface != *s, "{name} face {i} ({}) was left behind", p.type_name);
         }
     }
 }
@@ -210,7 +229,7 @@ fn mixed_solid_refinement_keeps_topology_edges_closed() {
         assert_eq!(r.seams_after.edges.len(), 29, "{name}");
         // The written edge curves lie on the morphed faces: measured afresh from the
         // file, edges found from its curves, the seams are as closed
-        let fresh = Model::from_bytes(&refined.to_bytes()).unwrap().seams(50);
+        let fresh = reread(&refined).seams(50);
         assert_eq!(fresh.edges.len(), 29, "{name}: {}", fresh.table());
         assert!(fresh.max_gap_closest <= tol, "{name}: {}", fresh.max_gap_closest);
     }
@@ -221,15 +240,15 @@ fn mixed_solid_refinement_keeps_topology_edges_closed() {
 #[test]
 fn offset_surface_faces_move_too() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../iges/tests/data/conics_offset.igs");
-    let mut m = Model::from_bytes(&std::fs::read(path).unwrap()).unwrap();
-    let offsets = m.patches().iter().filter(|p| p.kind == "IGES 140").count();
+    let mut m = open_path(&path);
+    let offsets = m.patches().iter().filter(|p| p.type_name == "IGES 140").count();
     assert!(offsets > 0, "the sample has offset faces");
     let before: Vec<_> = m.patches().iter().map(|p| p.surface.clone()).collect();
     let ffd = solid_ffd(&m);
     m.morph(&ffd, &MorphOptions::default()).unwrap();
     assert_eq!(m.patches().len(), before.len());
     for (p, s) in m.patches().iter().zip(&before) {
-        assert!(p.surface != *s, "{} was left behind", p.source);
+        assert!(p.surface != *s, "{} was left behind", p.entity);
     }
 }
 

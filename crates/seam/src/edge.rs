@@ -2,6 +2,7 @@
 //! `EDGE_CURVE`s, IGES 504 edge lists) and trimming curves of two faces that lie on each
 //! other (IGES 144/142 without topology).
 
+use cadmorph_brep::EntityRef;
 use cadmorph_nurbs::math::Point3;
 use cadmorph_nurbs::{Aabb, Curve, CurveProject, NurbsCurve, NurbsSurface, Projection, Surface, SurfaceProject};
 
@@ -21,8 +22,9 @@ pub struct TrimEdge {
     pub curve: NurbsCurve,
     /// The edge's part of the curve's domain.
     pub range: (f64, f64),
-    /// The entity it came from, for reports (`#12` in STEP, `DE 45` in IGES).
-    pub label: Option<String>,
+    /// The entities it came from, for reports (`#12` in STEP, `DE 45` in IGES; both
+    /// faces' trimming curves when it was matched from geometry).
+    pub label: Vec<EntityRef>,
 }
 
 /// A face's trimming curve (one piece of a boundary) for [`shared_curves`].
@@ -33,7 +35,7 @@ pub struct TrimCurve {
     /// The curve, world coordinates.
     pub curve: NurbsCurve,
     /// The entity it came from, for reports.
-    pub label: Option<String>,
+    pub label: Option<EntityRef>,
 }
 
 /// Where an edge sample lies on one face: parameters and point.
@@ -118,8 +120,8 @@ pub struct EdgeSamples {
     pub a: usize,
     /// Second patch.
     pub b: usize,
-    /// The edge's entity in the file.
-    pub label: Option<String>,
+    /// The edge's entities in the file.
+    pub label: Vec<EntityRef>,
     /// Edge parameter, then `(u, v)` on the first and on the second face.
     pub at: Vec<EdgeSample>,
 }
@@ -209,10 +211,7 @@ pub fn shared_curves(curves: &[TrimCurve], tol: f64, samples: usize, min_fractio
             let Some((range, _)) = overlap(&short.curve, &long.curve, tol, samples, min_fraction) else {
                 continue;
             };
-            let label = match (&a.label, &b.label) {
-                (Some(x), Some(y)) => Some(format!("{x} / {y}")),
-                (x, y) => x.clone().or_else(|| y.clone()),
-            };
+            let label: Vec<EntityRef> = a.label.iter().chain(&b.label).copied().collect();
             let range = (range.0.min(range.1), range.0.max(range.1));
             out.push(TrimEdge { a: a.patch, b: b.patch, curve: short.curve.clone(), range, label });
         }

@@ -1,5 +1,6 @@
 //! Dense sampling of shared edges: C0 gap (two ways), G1 normal angle, C1 mismatch.
 
+use cadmorph_brep::EntityRef;
 use cadmorph_nurbs::math::{Point3, Vector3};
 use cadmorph_nurbs::{NurbsSurface, Side, Surface, SurfaceProject};
 use serde::Serialize;
@@ -90,7 +91,7 @@ pub struct EdgeReport {
     pub b: EdgeEnd,
     /// The edge's entity in the file (`#id` in STEP, `DE n` in IGES) when the edge comes
     /// from the file's topology or trims.
-    pub edge: Option<String>,
+    pub edge: Vec<EntityRef>,
     /// Samples taken.
     pub samples: usize,
     /// Polyline length of the sampled edge on the first face.
@@ -261,7 +262,7 @@ pub fn measure_boundary(faces: &[Face], edge: &SharedBoundary, samples: usize) -
         }
     }
     let c1_mismatch = (c1.n > 0).then(|| c1.stat());
-    let sides = (edge.a.into(), edge.b.into(), None);
+    let sides = (edge.a.into(), edge.b.into(), Vec::new());
     EdgeReport::from_sums(sides, samples, length, [&gap_closest, &gap_matched, &g1, &g1u], c1_mismatch)
 }
 
@@ -269,7 +270,7 @@ impl EdgeReport {
     /// The report of an edge between `sides` (with its file label) from the sums of its
     /// samples: closest gap, matched gap, oriented and unoriented normal angle.
     pub(crate) fn from_sums(
-        (a, b, edge): (EdgeEnd, EdgeEnd, Option<String>),
+        (a, b, edge): (EdgeEnd, EdgeEnd, Vec<EntityRef>),
         samples: usize,
         length: f64,
         [gap_closest, gap_matched, g1, g1u]: [&Acc; 4],
@@ -345,7 +346,7 @@ impl SeamReport {
                 e.g1_angle_deg.max,
                 if e.sharp { '*' } else { ' ' },
                 c1,
-                e.edge.as_deref().unwrap_or("")
+                e.edge.iter().map(ToString::to_string).collect::<Vec<_>>().join(" / ")
             );
         }
         let _ = writeln!(

@@ -1,5 +1,5 @@
-//! In-place edits: points, weights, analytic surfaces replaced by B-splines, and the
-//! morph of a whole B-rep with its edges and vertices kept on the faces.
+//! In-place edits: points, weights, analytic surfaces replaced by B-splines, face
+//! surfaces and edge curves rewritten.
 
 use std::collections::{HashMap, HashSet};
 
@@ -13,50 +13,8 @@ use crate::views::{Ctx, Edge, Face, SurfaceKind};
 use crate::write::{knot_lists, real_list};
 use crate::EntityId;
 
-/// How [`Document::morph`] moves the edges and vertices of the morphed faces.
-///
-/// Measured by `tests/edits.rs::edge_policy_gap` (largest distance from 17 samples per
-/// edge and from the vertices to the adjacent morphed faces, under the smooth non-affine
-/// map `y·(1 + 0.05 sin(x/20)), z + 0.1 (y/4)²`):
-///
-/// | sample | `MoveControlPoints` | `Recompute` | file uncertainty |
-/// | --- | --- | --- | --- |
-/// | `hull3.stp` (10 edges) | 1.404e-10 m | 1.404e-10 m | 1e-7 m |
-/// | `blade.stp` (3 edges) | 1.263e-12 m | 1.264e-12 m | 1e-7 m |
-///
-/// Both are at the floor of the projection used to measure: in these files (as OCCT and
-/// most lofting tools write them) every edge curve is the boundary iso-curve of its
-/// patches with the same knots and poles, so moving its poles with the map moves it
-/// exactly with the face. [`Recompute`](EdgePolicy::Recompute) is the default because it
-/// stays on the morphed face by construction when that is not so (an edge curve with
-/// other knots or degree than the face, an interior iso-curve): it rebuilds the edge from
-/// the morphed surface instead of mapping a second, independent set of control points.
-/// That case is not in the samples and is not measured here.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum EdgePolicy {
-    /// Apply the map to the control points of the edge curves and to the vertex points.
-    /// Exact for affine maps; otherwise the edge follows the map, not the face.
-    MoveControlPoints,
-    /// Recompute each edge from a morphed adjacent face: the edge curve keeps its degree
-    /// and knots, its control points interpolate `S'(u(tᵢ), v(tᵢ))` at the Greville
-    /// abscissae `tᵢ`, with `(u, v)` the edge's parameter-space position on the original
-    /// face; vertices become `S'(u, v)`. Rational edge curves fall back to moving their
-    /// control points.
-    #[default]
-    Recompute,
-}
-
-/// What [`Document::morph`] did.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MorphReport {
-    /// Distinct Cartesian points rewritten.
-    pub points_moved: usize,
-    /// Largest distance from an edge sample or vertex to an adjacent morphed face (model
-    /// units).
-    pub max_gap: f64,
-    /// Edges measured.
-    pub edges: usize,
-}
+/// Control points to move in place: `(point instance, new position)`.
+type PointMoves = Vec<(EntityId, Point3<f64>)>;
 
 impl Document {
     /// Moves the Cartesian point `#id` to `p` (file coordinates). Every curve and surface
@@ -256,7 +214,7 @@ impl Document {
         Ok(ids)
     }
 
-    /// Gives each of `edges` a new 3D curve: the non-rational B-spline curve given (world
+    /// Gives each of `edges` a new 3D curve: the (rational) B-spline curve given (world
     /// coordinates, model units; the edge's placement is undone here), written as a new
     /// instance that the edge's `SURFACE_CURVE`/`SEAM_CURVE` (where it has one) or the
     /// `EDGE_CURVE` itself then points at; the old curve stays in the file, unused by
@@ -267,15 +225,12 @@ impl Document {
     /// # Errors
     ///
     /// [`Error::NoSuchInstance`] for an unknown edge; [`Error::Edit`] for a singular
-    /// placement, a rational or non-finite curve.
+    /// placement or a non-finite curve.
     pub fn set_edge_curves(&mut self, edges: &[(Edge, NurbsCurve)]) -> Result<usize> {
         let mut n = 0;
         for (e, c) in edges {
             let k = self.index.get(e.id.0).ok_or(Error::NoSuchInstance(e.id))?;
             let edit = |reason: &str| Error::Edit { at: self.position_of(k, 0), reason: reason.into() };
-            if c.is_rational() {
-                return Err(edit("rational edge curve"));
-            }
             let inverse = e.transform.try_inverse().ok_or_else(|| edit("singular edge placement"))?;
             let local = c.transformed(&inverse);
             if local.control_points().iter().any(|p| !p.coords.iter().all(|x| x.is_finite())) {
@@ -303,14 +258,196 @@ impl Document {
             }
             let (mults, knots) = knot_lists(local.knots());
             let poles = ids.iter().map(|i| format!("#{}", i.0)).collect::<Vec<_>>().join(",");
-            let curve = self.add_instance(&format!(
-                "B_SPLINE_CURVE_WITH_KNOTS('',{},({poles}),.UNSPECIFIED.,.F.,.F.,{mults},{knots},.UNSPECIFIED.)",
-                local.degree()
-            ))?;
+            let curve = self.add_instance(&match local.weights() {
+                None => format!(
+                    "B_SPLINE_CURVE_WITH_KNOTS('',{},({poles}),.UNSPECIFIED.,.F.,.F.,{mults},{knots},.UNSPECIFIED.)",
+                    local.degree()
+                ),
+                Some(w) => format!(
+                    "( BOUNDED_CURVE() B_SPLINE_CURVE({},({poles}),.UNSPECIFIED.,.F.,.F.) B_SPLINE_CURVE_WITH_KNOTS({mults},{knots},.UNSPECIFIED.) CURVE() GEOMETRIC_REPRESENTATION_ITEM() RATIONAL_B_SPLINE_CURVE({}) REPRESENTATION_ITEM('') )",
+                    local.degree(),
+                    weight_text(w, None)
+                ),
+            })?;
             self.splice(at, start, end, &format!("#{}", curve.0))?;
             n += 1;
         }
         Ok(n)
+    }
+
+    /// Writes `s` (world coordinates, model units) as the B-spline surface `#surface`
+    /// placed by `transform` (local to world), keeping the file's sharing of points: where
+    /// the instance is already a B-spline with the same degrees, knots, pole counts and
+    /// weights, only its moved control points are rewritten in place, and **a point
+    /// shared by two faces moves once**: a point that an earlier write in this session
+    /// already moved (to the position this surface also wants) is left alone. When this
+    /// surface wants a shared point elsewhere than an earlier write put it, when a point
+    /// to move is also a control point of another curve or surface that has not been
+    /// written (it would move along), or when the structure differs, the surface gets
+    /// its own new points
+    /// ([`set_face_surface`](Self::set_face_surface)'s way) and no other face moves.
+    /// Returns whether anything was written.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::NoSuchInstance`]; [`Error::Edit`] for a singular placement or
+    /// non-finite values.
+    pub fn write_surface_shared(
+        &mut self,
+        surface: EntityId,
+        transform: &Matrix4<f64>,
+        s: &NurbsSurface,
+    ) -> Result<bool> {
+        let k = self.index.get(surface.0).ok_or(Error::NoSuchInstance(surface))?;
+        let inverse = transform
+            .try_inverse()
+            .ok_or_else(|| Error::Edit { at: self.position_of(k, 0), reason: "singular face placement".into() })?;
+        let local = if *transform == Matrix4::identity() { s.clone() } else { s.transformed(&inverse) };
+        if local.control_points().iter().any(|p| !p.coords.iter().all(|c| c.is_finite())) {
+            return Err(Error::Edit { at: self.position_of(k, 0), reason: "non-finite control point".into() });
+        }
+        if let Ok(old) = self.bspline_surface(surface) {
+            if old == local {
+                return Ok(false);
+            }
+            let same_structure = old.u_degree() == local.u_degree()
+                && old.v_degree() == local.v_degree()
+                && old.n_u() == local.n_u()
+                && old.n_v() == local.n_v()
+                && old.u_knots() == local.u_knots()
+                && old.v_knots() == local.v_knots()
+                && old.weights() == local.weights();
+            if same_structure {
+                let plan = self.in_place_plan(surface, old.control_points(), local.control_points())?;
+                let plan = plan.filter(|p| !self.shared_with_other_geometry(surface, p));
+                if let Some(plan) = plan {
+                    for (id, p) in plan {
+                        self.set_point(id, p)?;
+                    }
+                    return Ok(true);
+                }
+            }
+        }
+        self.write_bspline_surface(surface, &local)?;
+        Ok(true)
+    }
+
+    /// The points of `#surface` to move in place to take its poles from `old` to `new`,
+    /// or `None` when a point is wanted at two places (already moved elsewhere by an
+    /// earlier write, or listed twice with different targets).
+    fn in_place_plan(&self, surface: EntityId, old: &[Point3<f64>], new: &[Point3<f64>]) -> Result<Option<PointMoves>> {
+        let ids = self.control_point_ids(surface)?;
+        let mut plan: HashMap<u64, Point3<f64>> = HashMap::new();
+        for ((id, p_old), p_new) in ids.iter().zip(old).zip(new) {
+            if let Some(q) = plan.get(&id.0) {
+                if q != p_new {
+                    return Ok(None);
+                }
+                continue;
+            }
+            if p_old == p_new {
+                // Unmoved here; but if another write moved it, this face would follow.
+                plan.insert(id.0, *p_new);
+                continue;
+            }
+            if self.get(*id).is_some_and(|i| i.is_edited()) {
+                // Moved by an earlier write to where it is now, which is not where this
+                // face wants it.
+                return Ok(None);
+            }
+            plan.insert(id.0, *p_new);
+        }
+        let mut out: Vec<(EntityId, Point3<f64>)> = Vec::new();
+        for ((id, p_old), p_new) in ids.iter().zip(old).zip(new) {
+            if p_old != p_new && plan.remove(&id.0).is_some() {
+                out.push((*id, *p_new));
+            }
+        }
+        Ok(Some(out))
+    }
+
+    /// Whether an instance other than `#surface` and vertices references one of the
+    /// points of `moves` (one pass over the document's text): moving them in place would
+    /// move that curve or surface too.
+    fn shared_with_other_geometry(&self, surface: EntityId, moves: &PointMoves) -> bool {
+        let ids: HashSet<u64> = moves.iter().map(|(id, _)| id.0).collect();
+        if ids.is_empty() {
+            return false;
+        }
+        (0..self.instances.len()).any(|k| {
+            let inst = &self.instances[k];
+            if inst.id == surface.0 || ids.contains(&inst.id) || self.name_of(k) == "VERTEX_POINT" {
+                return false;
+            }
+            let body = &self.text(k)[inst.body as usize..];
+            let mut i = 0;
+            while i < body.len() {
+                if body[i] == b'#' {
+                    let start = i + 1;
+                    let mut j = start;
+                    let mut n: u64 = 0;
+                    while j < body.len() && body[j].is_ascii_digit() {
+                        n = n.saturating_mul(10).saturating_add(u64::from(body[j] - b'0'));
+                        j += 1;
+                    }
+                    if j > start && ids.contains(&n) {
+                        return true;
+                    }
+                    i = j;
+                } else {
+                    i += 1;
+                }
+            }
+            false
+        })
+    }
+
+    /// Gives `EDGE_CURVE` `#edge` (placed by `transform`) the new 3D curve `c` (see
+    /// [`set_edge_curves`](Self::set_edge_curves)) and moves its vertices to the curve's
+    /// ends (the start vertex to `c`'s start when the edge runs along its curve, to its
+    /// end otherwise). A vertex point that an earlier write already moved is left where
+    /// it is (a vertex shared by several edges moves once), and so is one that is also a
+    /// control point of some curve or surface (moving it would move that geometry).
+    /// Returns whether anything was written.
+    ///
+    /// # Errors
+    ///
+    /// Those of [`set_edge_curves`](Self::set_edge_curves); malformed edges or vertices.
+    pub fn set_edge_curve(&mut self, edge: EntityId, transform: &Matrix4<f64>, c: &NurbsCurve) -> Result<bool> {
+        let ctx = Ctx::new(self, 1.0);
+        let r = ctx.simple(edge, "EDGE_CURVE")?;
+        r.arity(5)?;
+        let (start, end, curve, same_sense) = (r.reference(1)?, r.reference(2)?, r.reference(3)?, r.bool(4)?);
+        let vertex_point = |v: EntityId| -> Result<EntityId> {
+            let vr = ctx.simple(v, "VERTEX_POINT")?;
+            vr.arity(2)?;
+            vr.reference(1)
+        };
+        let (ps, pe) = (vertex_point(start)?, vertex_point(end)?);
+        drop(ctx);
+        let e =
+            Edge { id: edge, curve, start, end, same_sense, faces: Vec::new(), occurrence: 0, transform: *transform };
+        if self.set_edge_curves(&[(e, c.clone())])? == 0 {
+            return Ok(false);
+        }
+        let d = c.domain();
+        let (a, b) = (c.eval(*d.start()), c.eval(*d.end()));
+        let (at_start, at_end) = if same_sense { (a, b) } else { (b, a) };
+        let inverse = transform.try_inverse().unwrap_or_else(Matrix4::identity);
+        for (pid, w) in [(ps, at_start), (pe, at_end)] {
+            // A point an earlier write moved stays; so does one that is also a control
+            // point of a curve or surface (that geometry owns it and moves it itself).
+            if self.get(pid).is_some_and(|i| i.is_edited())
+                || self.referrers(pid).into_iter().any(|k| self.name_of(k) != "VERTEX_POINT")
+            {
+                continue;
+            }
+            let local = inverse.transform_point(&w);
+            if self.point(pid)? != local {
+                self.set_point(pid, local)?;
+            }
+        }
+        Ok(true)
     }
 
     /// Instances that reference `#target`, by position.
@@ -379,212 +516,6 @@ impl Document {
             }
         }
         Ok(())
-    }
-
-    /// Morphs every B-spline face with `map` (world coordinates, model units): each
-    /// Cartesian control point moves once, even when several surfaces share it; then the
-    /// edges and vertices of those faces follow `policy`. Analytic faces stay as they
-    /// are; convert them first with [`replace_with_bspline`](Self::replace_with_bspline)
-    /// to morph them too. Points used under two different assembly placements move with
-    /// the first.
-    ///
-    /// # Errors
-    ///
-    /// The views' errors; [`Error::Edit`] when the map gives a non-finite point.
-    pub fn morph(&mut self, map: &dyn Fn(&Point3<f64>) -> Point3<f64>, policy: EdgePolicy) -> Result<MorphReport> {
-        let faces = self.faces()?;
-        let edges = self.edges(&faces)?;
-        let originals: Vec<Option<NurbsSurface>> = faces
-            .iter()
-            .map(|f| match f.kind {
-                SurfaceKind::BSpline { .. } => self.face_nurbs(f).ok().map(|w| w.surface),
-                _ => None,
-            })
-            .collect();
-        let mut moved: HashMap<u64, Point3<f64>> = HashMap::new();
-        let move_point =
-            |doc: &Document, moved: &mut HashMap<u64, Point3<f64>>, id: EntityId, t: &Matrix4<f64>| -> Result<()> {
-                if moved.contains_key(&id.0) {
-                    return Ok(());
-                }
-                let p = doc.point(id)?;
-                let w = map(&t.transform_point(&p));
-                let inv = t.try_inverse().unwrap_or_else(Matrix4::identity);
-                moved.insert(id.0, inv.transform_point(&w));
-                Ok(())
-            };
-        for (f, o) in faces.iter().zip(&originals) {
-            if o.is_some() {
-                for id in self.control_point_ids(f.surface)? {
-                    move_point(self, &mut moved, id, &f.transform)?;
-                }
-            }
-        }
-        let morphed_face = |fi: usize| originals[fi].is_some();
-        let ctx_doc = self.clone();
-        let ctx = Ctx::new(&ctx_doc, ctx_doc.units()?.plane_angle);
-        let mut edge_points: HashMap<u64, Point3<f64>> = HashMap::new();
-        for e in &edges {
-            let Some(&fi) = e.faces.iter().find(|&&fi| morphed_face(fi)) else { continue };
-            let curve_id = bspline_of(&ctx, e.curve)?;
-            let vertex_pts: Vec<EntityId> = [e.start, e.end]
-                .iter()
-                .filter_map(|v| ctx.simple(*v, "VERTEX_POINT").ok().and_then(|r| r.reference(1).ok()))
-                .collect();
-            let rational = curve_id.and_then(|c| ctx_doc.curve_nurbs_local(c).ok()).is_some_and(|c| c.is_rational());
-            if policy == EdgePolicy::MoveControlPoints || rational {
-                if let Some(c) = curve_id {
-                    for id in ctx_doc.control_point_ids(c)? {
-                        move_point(self, &mut moved, id, &e.transform)?;
-                    }
-                }
-                for id in vertex_pts {
-                    move_point(self, &mut moved, id, &e.transform)?;
-                }
-                continue;
-            }
-            // Recompute from the morphed face.
-            let orig = originals[fi].as_ref().expect("morphed face");
-            let t = e.transform;
-            let inv = t.try_inverse().unwrap_or_else(Matrix4::identity);
-            let face_after = self.morphed_surface(&faces[fi], &moved)?;
-            // Points along the edge lie on the face: each projection starts from the
-            // previous one's answer (a global search only for the first, or off the face).
-            let size = orig.control_extent().max(1.0);
-            let last = std::cell::Cell::new(None::<(f64, f64)>);
-            let on_face = |p: &Point3<f64>| {
-                let w = t.transform_point(p);
-                let pr = orig.project_near(&w, last.get(), 1e-12 * (1.0 + w.coords.norm()), 1e-6 * size);
-                last.set(Some((pr.u, pr.v)));
-                inv.transform_point(&cadmorph_nurbs::Surface::eval(&face_after, pr.u, pr.v))
-            };
-            if let Some(c) = curve_id {
-                let curve = ctx_doc.curve_nurbs_local(c)?;
-                let ids = ctx_doc.control_point_ids(c)?;
-                let targets: Vec<Point3<f64>> = cadmorph_nurbs::greville(curve.knots(), curve.degree())
-                    .iter()
-                    .map(|&g| on_face(&Curve::eval(&curve, g)))
-                    .collect();
-                let fitted = cadmorph_nurbs::interpolate(curve.degree(), curve.knots(), &targets);
-                if let Some(new_pts) = fitted.ok().map(|c| c.control_points().to_vec()) {
-                    for (id, p) in ids.iter().zip(new_pts) {
-                        if !moved.contains_key(&id.0) {
-                            edge_points.insert(id.0, p);
-                        }
-                    }
-                }
-            }
-            for id in vertex_pts {
-                if !moved.contains_key(&id.0) && !edge_points.contains_key(&id.0) {
-                    let p = ctx_doc.point(id)?;
-                    edge_points.insert(id.0, on_face(&p));
-                }
-            }
-        }
-        for (id, p) in edge_points {
-            moved.entry(id).or_insert(p);
-        }
-        let n = moved.len();
-        let mut ordered: Vec<(u64, Point3<f64>)> = moved.into_iter().collect();
-        ordered.sort_unstable_by_key(|x| x.0);
-        for (id, p) in ordered {
-            if !p.coords.iter().all(|c| c.is_finite()) {
-                return Err(Error::Edit {
-                    at: self.position_of_id(EntityId(id)),
-                    reason: "the map gave a non-finite point".into(),
-                });
-            }
-            self.set_point(EntityId(id), p)?;
-        }
-        let (max_gap, measured) = self.edge_gap()?;
-        Ok(MorphReport { points_moved: n, max_gap, edges: measured })
-    }
-
-    /// The B-spline surface of a face with the moved points substituted (world coordinates).
-    fn morphed_surface(&self, face: &Face, moved: &HashMap<u64, Point3<f64>>) -> Result<NurbsSurface> {
-        let mut s = self.bspline_surface(face.surface)?;
-        let ids = self.control_point_ids(face.surface)?;
-        for (slot, id) in s.control_points_mut().iter_mut().zip(ids) {
-            if let Some(p) = moved.get(&id.0) {
-                *slot = *p;
-            }
-        }
-        s.transform_by(&face.transform);
-        Ok(s)
-    }
-
-    fn curve_nurbs_local(&self, id: EntityId) -> Result<NurbsCurve> {
-        let ctx = Ctx::new(self, 1.0);
-        match ctx.curve(id)? {
-            crate::views::geometry::CurveGeom::Nurbs(c) => Ok(c),
-            _ => Err(Error::UnexpectedEntity {
-                at: self.position_of_id(id),
-                expected: "a B-spline curve",
-                found: String::new(),
-            }),
-        }
-    }
-
-    /// Largest distance from the edges (17 samples each) and vertices of B-spline faces
-    /// to those faces, and the number of edges measured.
-    ///
-    /// # Errors
-    ///
-    /// The views' errors.
-    pub fn edge_gap(&self) -> Result<(f64, usize)> {
-        let faces = self.faces()?;
-        let edges = self.edges(&faces)?;
-        // Each B-spline face with the distance within which a local projection is kept.
-        let mut surfaces: HashMap<usize, (NurbsSurface, f64)> = HashMap::new();
-        for (i, f) in faces.iter().enumerate() {
-            if matches!(f.kind, SurfaceKind::BSpline { .. }) {
-                let s = self.face_nurbs(f)?.surface;
-                let accept = 1e-6 * s.control_extent().max(1.0);
-                surfaces.insert(i, (s, accept));
-            }
-        }
-        let (mut worst, mut n) = (0.0f64, 0);
-        for e in &edges {
-            let adj: Vec<&(NurbsSurface, f64)> = e.faces.iter().filter_map(|i| surfaces.get(i)).collect();
-            if adj.is_empty() {
-                continue;
-            }
-            let Ok(c) = self.edge_curve(e) else { continue };
-            n += 1;
-            let d = c.curve.domain();
-            let mut pts: Vec<Point3<f64>> =
-                (0..=16).map(|i| Curve::eval(&c.curve, d.start() + (d.end() - d.start()) * i as f64 / 16.0)).collect();
-            pts.extend([c.start, c.end]);
-            for (s, accept) in adj {
-                // Along the edge, each projection starts from the previous one's answer
-                // when that lands on the face; a real gap gets the global search.
-                let mut near = None;
-                for p in &pts {
-                    let pr = s.project_near(p, near, 1e-12 * (1.0 + p.coords.norm()), *accept);
-                    near = Some((pr.u, pr.v));
-                    worst = worst.max(pr.distance_sq.sqrt());
-                }
-            }
-        }
-        Ok((worst, n))
-    }
-}
-
-/// The B-spline curve behind an edge geometry (through surface curves), if it is one.
-fn bspline_of(ctx: &Ctx<'_>, id: EntityId) -> Result<Option<EntityId>> {
-    let k = ctx.index(id)?;
-    let name = ctx.doc.name_of(k);
-    if ctx.doc.instances[k].complex {
-        return Ok(ctx.doc.text(k).windows(14).any(|w| w == b"B_SPLINE_CURVE").then_some(id));
-    }
-    match name {
-        "B_SPLINE_CURVE_WITH_KNOTS" => Ok(Some(id)),
-        "SURFACE_CURVE" | "SEAM_CURVE" => {
-            let r = ctx.any(id)?;
-            r.arity(4)?;
-            bspline_of(ctx, r.reference(1)?)
-        }
-        _ => Ok(None),
     }
 }
 

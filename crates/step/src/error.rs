@@ -142,7 +142,7 @@ pub enum Error {
         what: &'static str,
     },
     /// The geometry of an instance is invalid (the NURBS kernel refused it).
-    #[error("{at}: invalid geometry: {source}")]
+    #[error("{at}: invalid geometry")]
     Geometry {
         /// Where the instance starts.
         at: Position,

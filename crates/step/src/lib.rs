@@ -31,6 +31,7 @@
 //!
 //! The crate has no feature flags.
 
+mod cad;
 mod document;
 mod edit;
 mod error;
@@ -41,7 +42,6 @@ mod write;
 use std::fmt;
 
 pub use document::{Document, InstanceRef};
-pub use edit::{EdgePolicy, MorphReport};
 pub use error::{Error, Position, Result};
 pub use read::param::{decode_string, encode_string, Body, Param, Record, Value};
 pub use views::{Edge, Face, LengthUnit, SurfaceKind, Units, WorldCurve, WorldSurface};

@@ -9,6 +9,7 @@
 use std::path::PathBuf;
 
 pub mod occt;
+pub mod refdata;
 pub mod strategies;
 
 /// Path of a file in the repository's `samples/` folder.

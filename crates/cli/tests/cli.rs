@@ -2,12 +2,13 @@
 
 use std::process::Command;
 
+/// The workspace root, where the `samples/` paths of the commands below start.
+fn root() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
 fn cadmorph(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_cadmorph"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the binary runs")
+    Command::new(env!("CARGO_BIN_EXE_cadmorph")).args(args).current_dir(root()).output().expect("the binary runs")
 }
 
 #[test]
@@ -116,8 +117,8 @@ fn refine_writes_step_and_iges_with_the_same_geometry() {
         let input = format!("samples/{name}");
         let out = cadmorph(&["refine", &input, "-o", out_file.to_str().unwrap(), "--knots", "4"]);
         assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
-        let before = cadmorph::model::Model::open(std::path::Path::new(&input)).unwrap();
-        let after = cadmorph::model::Model::open(&out_file).unwrap();
+        let before = cadmorph::open(&root().join(&input)).unwrap();
+        let after = cadmorph::open(&out_file).unwrap();
         for (p, q) in before.patches().iter().zip(after.patches()) {
             // 4 knots per direction on each bicubic patch: 4 more poles each way.
             assert_eq!((q.surface.n_u(), q.surface.n_v()), (p.surface.n_u() + 4, p.surface.n_v() + 4), "{name}");
@@ -129,4 +130,88 @@ fn refine_writes_step_and_iges_with_the_same_geometry() {
             }
         }
     }
+}
+
+#[test]
+fn inputs_of_no_format_and_outputs_of_no_writer_are_refused() {
+    let dir = std::env::temp_dir().join(format!("cadmorph-cli-refuse-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = dir.join("notes.txt");
+    std::fs::write(&text, "not a CAD file\n").unwrap();
+    let empty = dir.join("empty.stp");
+    std::fs::write(&empty, "").unwrap();
+    for (file, says) in
+        [(&text, "notes.txt: not an IGES or STEP file"), (&empty, "empty.stp is empty: not an IGES or STEP file")]
+    {
+        let out = cadmorph(&["info", file.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(1));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(says), "{err}");
+        assert!(!err.contains("IGES:") && !err.contains("section"), "an empty .stp is not read as IGES: {err}");
+    }
+    // A missing file names the file once, with the system's reason.
+    let out = cadmorph(&["info", "samples/no_such.igs"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.matches("samples/no_such.igs").count(), 1, "{err}");
+    // An output extension of no format is refused and nothing is written.
+    let bad = dir.join("out.txt");
+    let out =
+        cadmorph(&["morph", "samples/hull3.igs", "--ffd", "samples/prm/bow_dome.prm", "-o", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("extension"), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(!bad.exists());
+}
+
+/// Each cause of an error is printed once: a malformed IGES file's message appears a
+/// single time on the error line.
+#[test]
+fn errors_print_each_cause_once() {
+    let dir = std::env::temp_dir().join(format!("cadmorph-cli-once-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut bytes = std::fs::read(root().join("samples/hull3.igs")).unwrap();
+    // Break the column-73 section letter of a directory entry line.
+    let line = bytes.split(|&b| b == b'\n').position(|l| l.get(72) == Some(&b'D')).unwrap();
+    let start: usize = bytes.split(|&b| b == b'\n').take(line).map(|l| l.len() + 1).sum();
+    bytes[start + 72] = b'X';
+    let bad = dir.join("broken.igs");
+    std::fs::write(&bad, bytes).unwrap();
+    let out = cadmorph(&["info", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert_eq!(err.matches("expected S, G, D, P or T").count(), 1, "{err}");
+    assert!(err.contains("reading ") && err.contains("broken.igs"), "{err}");
+}
+
+#[test]
+fn convert_writes_the_format_of_the_extension() {
+    let dir = std::env::temp_dir().join(format!("cadmorph-cli-convert-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (input, output, format) in [
+        ("samples/hull3.igs", "hull3.stp", cadmorph::Format::Step),
+        ("samples/hull3.stp", "hull3.igs", cadmorph::Format::Iges),
+    ] {
+        let out_file = dir.join(output);
+        let out = cadmorph(&["convert", input, "-o", out_file.to_str().unwrap()]);
+        assert!(out.status.success(), "{input}: {}", String::from_utf8_lossy(&out.stderr));
+        let a = cadmorph::open(&root().join(input)).unwrap();
+        let b = cadmorph::open(&out_file).unwrap();
+        assert_eq!(b.format(), format);
+        assert_eq!(a.patches().len(), b.patches().len());
+        for (p, q) in a.patches().iter().zip(b.patches()) {
+            for (u, v) in cadmorph_testkit::grid(&p.surface, 7) {
+                let d = (cadmorph::nurbs::Surface::eval(&p.surface, u, v)
+                    - cadmorph::nurbs::Surface::eval(&q.surface, u, v))
+                .norm();
+                assert!(d < 1e-9, "{input} -> {output}: {d}");
+            }
+        }
+        // The seams are the same in the converted file.
+        let (sa, sb) = (a.seams(50), b.seams(50));
+        assert_eq!(sa.edges.len(), sb.edges.len(), "{input} -> {output}");
+    }
+    // A trimmed face is refused, not written without its trims.
+    let out = cadmorph(&["convert", "samples/mixed_solid.stp", "-o", dir.join("solid.igs").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("trimmed"));
 }

@@ -2,7 +2,7 @@
 //!
 //! These files hold, for each B-spline face of a sample, OCCT's own data (degrees,
 //! knots, poles, weights) and OCCT's evaluation at 50 parameter pairs. Reading them
-//! lets `cadmorph eval` compare cadmorph's evaluation with OCCT's before the IGES and
+//! lets `cadmorph eval` (and the tests) compare cadmorph's evaluation with OCCT's before the IGES and
 //! STEP readers exist.
 
 use anyhow::{bail, Context, Result};

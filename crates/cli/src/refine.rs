@@ -1,0 +1,43 @@
+//! `cadmorph refine`: insert knots without moving anything.
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Result};
+use cadmorph::model::MorphOptions;
+use cadmorph::seam::SeamRefineOptions;
+
+/// Arguments of `refine`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The input IGES or STEP file.
+    input: PathBuf,
+    /// The output file.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// This many evenly spaced knots per direction on every face.
+    #[arg(long, conflicts_with_all = ["for_params", "tol"])]
+    knots: Option<usize>,
+    /// Refine for this morph (FFD/RBF/IDW parameter file) ...
+    #[arg(long = "for", requires = "tol")]
+    for_params: Option<PathBuf>,
+    /// ... so that the seams stay within this gap after it.
+    #[arg(long)]
+    tol: Option<f64>,
+}
+
+/// Runs `refine`.
+pub fn run(a: Args) -> Result<()> {
+    let mut m = cadmorph::open(&a.input)?;
+    let (before, after) = match (a.knots, &a.for_params, a.tol) {
+        (Some(n), _, _) => m.refine(&MorphOptions { uniform_knots: Some(n), ..Default::default() }, None)?,
+        (None, Some(p), Some(t)) => {
+            let d = crate::params::deformation(p, None)?;
+            let opts = MorphOptions { refine: Some(SeamRefineOptions::new(t, 0.01)), ..Default::default() };
+            m.refine(&opts, Some(d.as_ref()))?
+        }
+        _ => bail!("give --knots N, or --for PARAMS with --tol T"),
+    };
+    cadmorph::save_as(&m, &a.output)?;
+    println!("{} -> {}: control points {before} -> {after}", a.input.display(), a.output.display());
+    Ok(())
+}

@@ -1,0 +1,267 @@
+//! The one morph path, for every format: refine, move every control point once, write
+//! each face once, trace each bound curve once on its morphed face.
+
+use std::collections::HashSet;
+
+use cadmorph_brep::{CadDocument, EntityRef, SurfaceKind};
+use cadmorph_morph::Deformation;
+use cadmorph_nurbs::{NurbsSurface, Surface};
+use cadmorph_seam::{
+    make_compatible, refine_edges, refine_uniform, repair, EdgeSamples, SeamRefineOptions, SeamRefinement, SeamReport,
+};
+use serde::Serialize;
+
+use crate::model::{Model, Progress, Silent};
+use crate::trace::{follow_face, moved_by, refined_like};
+use crate::{Error, Result};
+
+/// Settings of [`Model::morph`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MorphOptions {
+    /// Seam-driven refinement before the morph (gap and angle tolerances).
+    pub refine: Option<SeamRefineOptions>,
+    /// PyGeM-style refinement: this many evenly spaced knots per direction on every patch.
+    pub uniform_knots: Option<usize>,
+    /// Make knots compatible across shared edges before the morph and make the two
+    /// sides of every shared edge identical after it (exact C0, and G1 for
+    /// non-rational patches).
+    pub repair: bool,
+}
+
+/// What [`Model::morph`] did, counted from what was written.
+#[derive(Debug, Clone, Serialize)]
+pub struct MorphOutcome {
+    /// Control points of all patches before.
+    pub control_points_before: usize,
+    /// Control points of all patches after (refinement adds some).
+    pub control_points_after: usize,
+    /// Faces whose surface entities were written.
+    pub faces_rewritten: usize,
+    /// Model-space curves whose entities were written (each shared edge once).
+    pub curves_rewritten: usize,
+    /// The seam refinement's report, when it ran.
+    pub refinement: Option<SeamRefinement>,
+    /// Seams before the morph.
+    pub seams_before: SeamReport,
+    /// Seams after the morph, of the patches as written (see [`Model::verify`] for the
+    /// file read back).
+    pub seams_after: SeamReport,
+}
+
+fn count(faces: &[cadmorph_brep::Face]) -> usize {
+    faces.iter().map(|p| p.surface.control_points().len()).sum()
+}
+
+impl<D: CadDocument> Model<D> {
+    /// Inserts knots without moving anything: evenly spaced (`opts.uniform_knots`) or
+    /// where the morph `d` needs them to keep the seams (`opts.refine`), and rewrites the
+    /// refined B-spline faces. The geometry does not change; analytic faces keep their
+    /// exact analytic form (a plane or cylinder needs no knots until it moves). Returns
+    /// the control points before and after.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Unsupported`] for seam refinement without a morph; the document's errors.
+    pub fn refine(&mut self, opts: &MorphOptions, d: Option<&dyn Deformation>) -> Result<(usize, usize)> {
+        let before = count(&self.faces);
+        let mut patches: Vec<NurbsSurface> = self.faces.iter().map(|p| p.surface.clone()).collect();
+        if let Some(n) = opts.uniform_knots {
+            for (s, p) in patches.iter_mut().zip(&self.faces) {
+                if !p.kind.is_analytic() {
+                    refine_uniform(s, n)?;
+                }
+            }
+        }
+        if let Some(r) = opts.refine {
+            let d = d.ok_or(Error::Unsupported("seam refinement needs the morph it refines for"))?;
+            refine_edges(&mut patches, &self.iso, &self.trims, d, &r);
+        }
+        for (face, s) in self.faces.iter_mut().zip(patches) {
+            if face.kind.is_analytic() || s == face.surface {
+                continue;
+            }
+            self.doc.set_face_surface(face, &s)?;
+            face.surface = s;
+        }
+        self.rebuild_edges();
+        Ok((before, count(&self.faces)))
+    }
+
+    /// Morphs the model with `d`: optional refinement and repair (see [`MorphOptions`]),
+    /// then every control point of every face moves with `d` once (weights kept), each
+    /// face is written once (analytic faces that move become their exact B-spline form
+    /// first), and each curve bounding a face is traced once on its morphed face
+    /// (control points moved where that stays within `1e-7 ×` the model size of the
+    /// face, else a cubic fit broken where the curve crosses the face's knot lines); a
+    /// curve shared by two faces is traced on the first. Other model-space curves move
+    /// their control points. Only the entities that changed are rewritten: a morph that
+    /// moves nothing leaves the document byte-identical.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::NonFinite`] or [`Error::Folded`] before anything is changed; the
+    /// document's errors.
+    pub fn morph(&mut self, d: &dyn Deformation, opts: &MorphOptions) -> Result<MorphOutcome> {
+        self.morph_with_progress(d, opts, &Silent)
+    }
+
+    /// [`morph`](Self::morph), reporting its stages to `progress`.
+    ///
+    /// # Errors
+    ///
+    /// Those of [`morph`](Self::morph).
+    pub fn morph_with_progress(
+        &mut self,
+        d: &dyn Deformation,
+        opts: &MorphOptions,
+        progress: &dyn Progress,
+    ) -> Result<MorphOutcome> {
+        let edges = self.iso.clone();
+        let seams_before = self.seams_with_progress(200, progress);
+        // Where the trim edges lie on their faces, in the faces' parameters: the seams
+        // after the morph are measured there, between the faces' own trimmed boundaries.
+        let faces = self.seam_faces();
+        let trim_samples: Vec<EdgeSamples> = self.trims.iter().map(|e| e.samples(&faces, 200)).collect();
+        let domains: Vec<_> = self.faces.iter().map(|p| p.surface.domain()).collect();
+        let before = count(&self.faces);
+        let mut patches: Vec<NurbsSurface> = self.faces.iter().map(|p| p.surface.clone()).collect();
+        if opts.repair {
+            make_compatible(&mut patches, &edges)?;
+        }
+        if let Some(n) = opts.uniform_knots {
+            for s in &mut patches {
+                refine_uniform(s, n)?;
+            }
+        }
+        let refinement = opts.refine.map(|r| {
+            progress.start("refining", 0);
+            refine_edges(&mut patches, &edges, &self.trims, d, &r)
+        });
+        let refined = patches.clone();
+        progress.start("moving control points", patches.len() as u64);
+        // Move and check every control point before touching the document.
+        for (p, s) in self.faces.iter().zip(&mut patches) {
+            for (i, q) in s.control_points_mut().iter_mut().enumerate() {
+                if let Some(j) = d.jacobian(q) {
+                    let det = j.determinant();
+                    if det.is_nan() || det <= 0.0 {
+                        return Err(Error::Folded { face: p.entity, point: i, det });
+                    }
+                }
+                let moved = d.deform_point(q);
+                if !moved.coords.iter().all(|c| c.is_finite()) {
+                    return Err(Error::NonFinite { face: p.entity, point: i });
+                }
+                *q = moved;
+            }
+            progress.step(1);
+        }
+        if opts.repair {
+            for e in &edges {
+                if e.a.patch == e.b.patch {
+                    continue;
+                }
+                let (lo, hi) = (e.a.patch.min(e.b.patch), e.a.patch.max(e.b.patch));
+                let (left, right) = patches.split_at_mut(hi);
+                let (x, y) = (&mut left[lo], &mut right[0]);
+                let (a, b) = if e.a.patch == lo { (x, y) } else { (y, x) };
+                match repair(a, b, e, true) {
+                    Ok(_) | Err(cadmorph_seam::Error::PartialEdge { .. }) => {}
+                    Err(other) => return Err(other.into()),
+                }
+            }
+        }
+        progress.start("writing", 0);
+        let tol = 1e-7 * self.size();
+        let (faces_rewritten, unmoved) = self.write_faces(&refined, patches, d)?;
+        let curves_rewritten = self.write_curves(&unmoved, d, tol)?;
+        self.rebuild_edges();
+        let seams_after = self.seams_at(&trim_samples, &domains, progress);
+        self.after_samples = Some((trim_samples, domains));
+        Ok(MorphOutcome {
+            control_points_before: before,
+            control_points_after: count(&self.faces),
+            faces_rewritten,
+            curves_rewritten,
+            refinement,
+            seams_before,
+            seams_after,
+        })
+    }
+
+    /// Writes every face whose surface the morph changed; returns how many were written,
+    /// and each face's surface before the morph in the parameters of the surface it has
+    /// now (what its curves are traced from).
+    fn write_faces(
+        &mut self,
+        refined: &[NurbsSurface],
+        moved: Vec<NurbsSurface>,
+        d: &dyn Deformation,
+    ) -> Result<(usize, Vec<NurbsSurface>)> {
+        let mut written = 0;
+        let mut unmoved = Vec::with_capacity(moved.len());
+        for ((face, r), s) in self.faces.iter_mut().zip(refined).zip(moved) {
+            unmoved.push(face.surface.clone());
+            if face.kind.is_analytic() {
+                if s == face.surface || !moved_by(d, face.surface.control_points()) {
+                    continue;
+                }
+                // The exact B-spline form in the file (for IGES in the entity's own
+                // extent, the trims rewritten to match); the refinement planned on the
+                // patch carries over where that form has the patch's knots.
+                let b = self.doc.bspline_form(face)?;
+                let mut target = refined_like(&face.surface, r, &b);
+                // Curves are traced from this form (its parameters), not from the patch.
+                *unmoved.last_mut().expect("pushed above") = target.clone();
+                d.deform(target.control_points_mut());
+                face.kind = SurfaceKind::BSpline;
+                self.doc.set_face_surface(face, &target)?;
+                face.surface = target;
+                written += 1;
+            } else if s != face.surface {
+                if self.doc.set_face_surface(face, &s)? {
+                    written += 1;
+                }
+                face.surface = s;
+            }
+        }
+        Ok((written, unmoved))
+    }
+
+    /// Traces every moved bound curve once on its first morphed face (from `unmoved`, the
+    /// face before the morph in the parameters it has now), then moves the free curves'
+    /// control points; returns how many curve entities were written. A traced curve
+    /// stays within `tol` of its face.
+    fn write_curves(&mut self, unmoved: &[NurbsSurface], d: &dyn Deformation, tol: f64) -> Result<usize> {
+        let mut n = 0;
+        let mut traced: HashSet<EntityRef> = HashSet::new();
+        for k in 0..self.bounds.len() {
+            let b = &self.bounds[k];
+            let Some(target) = b.target else { continue };
+            if traced.contains(&target) || !moved_by(d, b.curve.control_points()) {
+                continue;
+            }
+            traced.insert(target);
+            let face = b.face;
+            let Some(c) = follow_face(&b.curve, &unmoved[face], &self.faces[face].surface, d, tol) else {
+                continue;
+            };
+            if self.doc.set_bound_curve(b, &c)? {
+                n += 1;
+            }
+            self.set_bound_in_memory(k, c);
+        }
+        for f in &mut self.free {
+            if traced.contains(&f.entity) {
+                continue;
+            }
+            let mut c = f.curve.clone();
+            d.deform(c.control_points_mut());
+            if self.doc.set_free_curve(f, &c)? {
+                n += 1;
+            }
+            f.curve = c;
+        }
+        Ok(n)
+    }
+}

@@ -1,0 +1,199 @@
+//! Curves traced on morphed faces, and refinement carried over to a face's B-spline form.
+
+use cadmorph_morph::Deformation;
+use cadmorph_nurbs::math::Point3;
+use cadmorph_nurbs::{NurbsCurve, NurbsSurface, Surface};
+
+/// Whether `d` moves any of `pts`.
+pub(crate) fn moved_by(d: &dyn Deformation, pts: &[Point3<f64>]) -> bool {
+    pts.iter().any(|p| d.deform_point(p) != *p)
+}
+
+/// The knots `refined` has beyond `base` in each direction, to insert into `target`
+/// (another copy of `base`'s geometry, such as the B-spline an analytic face becomes);
+/// `None` when `target` does not have `base`'s knots, so the insertion would not mean
+/// the same there.
+fn inserted_knots(base: &NurbsSurface, refined: &NurbsSurface, target: &NurbsSurface) -> Option<(Vec<f64>, Vec<f64>)> {
+    let same = |a: &cadmorph_nurbs::KnotVector, b: &cadmorph_nurbs::KnotVector| {
+        a.len() == b.len()
+            && a.as_slice().iter().zip(b.as_slice()).all(|(x, y)| (x - y).abs() <= 1e-12 * (1.0 + x.abs()))
+    };
+    if base.u_degree() != target.u_degree()
+        || base.v_degree() != target.v_degree()
+        || !same(base.u_knots(), target.u_knots())
+        || !same(base.v_knots(), target.v_knots())
+    {
+        return None;
+    }
+    let extra = |from: &[f64], to: &[f64]| {
+        let mut out = Vec::new();
+        let mut i = 0;
+        for &k in to {
+            if i < from.len() && from[i] == k {
+                i += 1;
+            } else {
+                out.push(k);
+            }
+        }
+        out
+    };
+    Some((
+        extra(base.u_knots().as_slice(), refined.u_knots().as_slice()),
+        extra(base.v_knots().as_slice(), refined.v_knots().as_slice()),
+    ))
+}
+
+/// `target` (another copy of `base`'s geometry) with the knots that took `base` to
+/// `refined`; `target` itself where the two do not match.
+pub(crate) fn refined_like(base: &NurbsSurface, refined: &NurbsSurface, target: &NurbsSurface) -> NurbsSurface {
+    let mut out = target.clone();
+    if let Some((xu, xv)) = inserted_knots(base, refined, target) {
+        if out.refine_u(&xu).is_err() || out.refine_v(&xv).is_err() {
+            return target.clone();
+        }
+    }
+    out
+}
+
+/// The curve `c`, lying on `before`, made to lie on `after` (the same face morphed, in the
+/// same parameters): its control points moved by `d` where that stays within `tol` of
+/// the face's image of the curve (always for affine maps and for iso-boundaries that
+/// share the face's knots), else a cubic fit of that image within `tol`. `None` when
+/// neither works (the curve is left as it is).
+pub(crate) fn follow_face(
+    c: &NurbsCurve,
+    before: &NurbsSurface,
+    after: &NurbsSurface,
+    d: &dyn Deformation,
+    tol: f64,
+) -> Option<NurbsCurve> {
+    use cadmorph_nurbs::Curve;
+    let dom = c.domain();
+    let (t0, t1) = (*dom.start(), *dom.end());
+    let size = before.control_extent().max(1.0);
+    let ptol = 1e-12 * size;
+    let last = std::cell::Cell::new(None::<(f64, f64)>);
+    let image = |t: f64| {
+        let pr = before.project_near(&c.eval(t), last.get(), ptol, 1e-6 * size);
+        last.set(Some((pr.u, pr.v)));
+        after.eval(pr.u, pr.v)
+    };
+    let mut moved = c.clone();
+    d.deform(moved.control_points_mut());
+    let n = 8 * moved.control_points().len() + 1;
+    let off = (0..n).map(|k| t0 + (t1 - t0) * k as f64 / (n - 1) as f64).map(|t| (moved.eval(t) - image(t)).norm());
+    if off.fold(0.0, f64::max) <= tol {
+        return Some(moved);
+    }
+    // The image bends where the curve crosses a knot line of the morphed face: break the
+    // fit there.
+    // Parameters on the face, each search started from a nearby known answer.
+    let uv = |t: f64, near: Option<(f64, f64)>| {
+        let pr = before.project_near(&c.eval(t), near, ptol, 1e-6 * size);
+        (pr.u, pr.v)
+    };
+    let spans = |(u, v): (f64, f64)| {
+        (after.u_knots().find_span(after.u_degree(), u), after.v_knots().find_span(after.v_degree(), v))
+    };
+    let crossings = after.u_knots().len() + after.v_knots().len();
+    let m = (8 * crossings).clamp(32, 1024);
+    let ts: Vec<f64> = (0..=m).map(|k| t0 + (t1 - t0) * k as f64 / m as f64).collect();
+    let mut uvs: Vec<(f64, f64)> = Vec::with_capacity(ts.len());
+    for &t in &ts {
+        let near = uvs.last().copied();
+        uvs.push(uv(t, near));
+    }
+    // A curve along an iso-line of the face (a boundary, a rim) is that iso-line of the
+    // morphed face, exactly.
+    if let Some(iso) = iso_trace(c, before, after, &uvs) {
+        return Some(iso);
+    }
+    let mut breaks = Vec::new();
+    for k in 0..m {
+        let cell = spans(uvs[k]);
+        if cell == spans(uvs[k + 1]) {
+            continue;
+        }
+        let (mut lo, mut hi) = (ts[k], ts[k + 1]);
+        let mut near = uvs[k];
+        for _ in 0..40 {
+            let mid = 0.5 * (lo + hi);
+            let at = uv(mid, Some(near));
+            if spans(at) == cell {
+                lo = mid;
+                near = at;
+            } else {
+                hi = mid;
+            }
+        }
+        breaks.push(0.5 * (lo + hi));
+    }
+    last.set(None);
+    // A cubic needs about (r / tol)^(1/4) spans per turn of a curve of radius r: a full
+    // circle at 1e-7 of its size takes some 300 poles.
+    match cadmorph_nurbs::fit_curve(image, (t0, t1), &breaks, 3, tol, 2048 + 64 * breaks.len()) {
+        Ok((f, _)) => Some(f),
+        // Moved control points at least follow the morph, if not the face exactly.
+        Err(_) => Some(moved),
+    }
+}
+
+/// When the face parameters `uvs` of samples along `c` (evenly spaced in its parameter)
+/// keep `u` (or `v`) constant and run monotonically in the other, the part of `after`'s
+/// iso-curve there, running the way `c` runs (the whole iso-curve for a closed `c`).
+/// `None` when `c` is not along an iso-line.
+fn iso_trace(c: &NurbsCurve, before: &NurbsSurface, after: &NurbsSurface, uvs: &[(f64, f64)]) -> Option<NurbsCurve> {
+    use cadmorph_nurbs::Curve;
+    if uvs.len() < 5 {
+        return None;
+    }
+    let (ud, vd) = before.domain();
+    let (su, sv) = (ud.end() - ud.start(), vd.end() - vd.start());
+    let eps = 1e-9;
+    let u_const = uvs.iter().all(|q| (q.0 - uvs[0].0).abs() <= eps * su);
+    let v_const = uvs.iter().all(|q| (q.1 - uvs[0].1).abs() <= eps * sv);
+    let (iso, along, span) = match (u_const, v_const) {
+        (true, false) => (after.u_iso(uvs[0].0), uvs.iter().map(|q| q.1).collect::<Vec<_>>(), sv),
+        (false, true) => (after.v_iso(uvs[0].1), uvs.iter().map(|q| q.0).collect::<Vec<_>>(), su),
+        _ => return None,
+    };
+    let d = c.domain();
+    let closed =
+        (c.eval(*d.start()) - c.eval(*d.end())).norm() <= 1e-9 * c.bounding_box().diagonal().max(f64::MIN_POSITIVE);
+    let n = along.len();
+    let dom = iso.domain();
+    let (lo_dom, hi_dom) = (*dom.start(), *dom.end());
+    let (a, b) = if closed {
+        // A closed curve's ends may land on either side of the iso-curve's seam: the
+        // direction from the middle samples, the whole iso-curve.
+        let forward = along[n / 2] > along[n / 4];
+        let interior = &along[n / 8..n - n / 8];
+        let mono = interior.windows(2).all(|w| if forward { w[1] >= w[0] } else { w[1] <= w[0] });
+        if !mono || (hi_dom - lo_dom - span).abs() > eps * span {
+            return None;
+        }
+        if forward {
+            (lo_dom, hi_dom)
+        } else {
+            (hi_dom, lo_dom)
+        }
+    } else {
+        let forward = along[n - 1] > along[0];
+        if !along.windows(2).all(|w| if forward { w[1] >= w[0] } else { w[1] <= w[0] }) {
+            return None;
+        }
+        (along[0], along[n - 1])
+    };
+    let (lo, hi) = (a.min(b), a.max(b));
+    if hi - lo <= eps * span {
+        return None;
+    }
+    let mut seg = iso;
+    if lo > lo_dom + eps * span {
+        seg = seg.split(lo).ok()?.1;
+    }
+    if hi < hi_dom - eps * span {
+        seg = seg.split(hi).ok()?.0;
+    }
+    Some(if a > b { seg.reversed() } else { seg })
+}
