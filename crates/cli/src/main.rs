@@ -11,6 +11,7 @@ mod convert;
 mod eval;
 mod grid;
 mod info;
+mod limits;
 mod morph;
 mod params;
 mod progress;
@@ -27,6 +28,11 @@ use clap::{Parser, Subcommand};
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// The most memory one structure of the run may take (an FFD lattice, a dense RBF
+    /// system, a refined net): sizes over it are refused before anything is allocated.
+    /// Examples: 8G, 512M, 2GiB. Default: half of the machine's memory.
+    #[arg(long, global = true, value_parser = limits::parse_memory, value_name = "SIZE")]
+    max_memory: Option<u64>,
 }
 
 #[derive(Subcommand)]
@@ -63,6 +69,12 @@ fn start_thread_pool() {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     start_thread_pool();
+    if let Some(bytes) = cli.max_memory {
+        cadmorph::morph::budget::set_limit(bytes);
+    }
+    // A write past the file-size limit (`ulimit -f`) then fails with an error, which
+    // removes the temporary file, instead of killing the process with SIGXFSZ.
+    let _ = signal_hook::flag::register(signal_hook::consts::SIGXFSZ, std::sync::Arc::default());
     let result = match cli.command {
         Command::Info(a) => info::run(a),
         Command::Sample(a) => sample::run(a),

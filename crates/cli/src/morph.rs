@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use cadmorph::model::MorphOptions;
+use cadmorph::model::{MorphOptions, Staged};
 use cadmorph::seam::SeamRefineOptions;
 use cadmorph::Format;
 
@@ -37,11 +37,15 @@ pub struct Args {
     #[command(flatten)]
     source: Source,
     /// Refine so that the seams stay within this gap (model units) after the morph.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::limits::positive)]
     refine_tol: Option<f64>,
     /// With --refine-tol: the largest normal angle across a seam, degrees.
-    #[arg(long, default_value_t = 0.01, requires = "refine_tol")]
+    #[arg(long, default_value_t = 0.01, requires = "refine_tol", value_parser = crate::limits::positive)]
     angle_tol: f64,
+    /// With --refine-tol: stop refining (and fail) before the faces would hold more than
+    /// this many control points in all. Default: 20 times the input's.
+    #[arg(long, requires = "refine_tol")]
+    max_control_points: Option<usize>,
     /// PyGeM-style refinement instead: this many evenly spaced knots per direction.
     #[arg(long, conflicts_with = "refine_tol")]
     uniform_knots: Option<usize>,
@@ -69,23 +73,54 @@ pub fn run(a: Args) -> Result<()> {
         _ => bail!("one of --ffd, --rbf, --idw is needed"),
     };
     let d = crate::params::deformation(path, Some(kind))?;
-    let opts = MorphOptions {
-        refine: a.refine_tol.map(|t| SeamRefineOptions::new(t, a.angle_tol)),
-        uniform_knots: a.uniform_knots,
-        repair: a.repair,
-    };
     let mut m = cadmorph::open(&a.input)?;
+    let before: usize = m.patches().iter().map(|p| p.surface.control_points().len()).sum();
+    let refine = match a.refine_tol {
+        Some(t) => {
+            crate::limits::check_gap_tolerance("--refine-tol", t, m.size(), m.unit())?;
+            crate::limits::check_angle_tolerance("--angle-tol", a.angle_tol)?;
+            let mut r = SeamRefineOptions::new(t, a.angle_tol);
+            r.max_control_points = a.max_control_points.unwrap_or(before.saturating_mul(20).max(1000));
+            Some(r)
+        }
+        None => None,
+    };
+    let opts = MorphOptions { refine, uniform_knots: a.uniform_knots, repair: a.repair };
     let mut outcome = {
         let bar = Bar::new();
         m.morph_with_progress(d.as_ref(), &opts, &bar).with_context(|| format!("morphing {}", a.input.display()))?
     };
-    cadmorph::save_as(&m, &a.output)?;
+    if let (Some(r), Some(o)) = (&outcome.refinement, &opts.refine) {
+        if !r.converged {
+            bail!(
+                "seam refinement did not converge: after {} rounds the largest gap is {:.3e} {} (asked {:.3e}) and \
+                 the largest angle {:.4} deg (asked {}), with {} control points (from {}, limit {}); nothing written",
+                r.rounds,
+                r.max_gap,
+                m.unit(),
+                o.tol,
+                r.max_angle_deg,
+                o.angle_tol_deg,
+                r.control_points_after,
+                r.control_points_before,
+                o.max_control_points
+            );
+        }
+    }
+    // Everything that can fail is done before the output replaces anything: the output's
+    // bytes, the read-back "after" report, the report file, all staged beside their targets.
+    let format = Format::from_extension(&a.output).expect("checked above");
+    let bytes = if format == m.format() { m.to_bytes() } else { cadmorph::convert(&m, format)?.to_bytes() };
     let elapsed = start.elapsed().as_secs_f64();
     // The "after" report describes the written document, read back.
     outcome.seams_after = m.verify()?.seams;
-    if let Some(r) = &a.report {
-        let text = serde_json::to_string_pretty(&outcome)?;
-        cadmorph::model::write_atomic(r, text.as_bytes())?;
+    let report = match &a.report {
+        Some(r) => Some(Staged::new(r, serde_json::to_string_pretty(&outcome)?.as_bytes())?),
+        None => None,
+    };
+    Staged::new(&a.output, &bytes)?.commit()?;
+    if let Some(r) = report {
+        r.commit()?;
     }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&outcome)?);

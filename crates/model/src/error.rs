@@ -29,6 +29,14 @@ pub enum Error {
         /// The I/O error.
         source: std::io::Error,
     },
+    /// An output path names something that is not a regular file (nothing was written).
+    #[error("{}: is {kind}; cadmorph writes only regular files", path.display())]
+    NotAFile {
+        /// The path given.
+        path: PathBuf,
+        /// What it is.
+        kind: &'static str,
+    },
     /// A file was read but its contents are not a valid document of its format.
     #[error("reading {}", path.display())]
     Read {

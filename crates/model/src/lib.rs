@@ -42,9 +42,11 @@ mod edges;
 mod error;
 mod model;
 mod morph;
+mod output;
 mod trace;
 
 pub use cadmorph_brep::{CadDocument, EntityRef, Face, Format, ReadDocument, Skipped, Units};
 pub use error::{Error, Result};
-pub use model::{write_atomic, Info, Model, Patch, PatchInfo, Progress, Silent, Verification};
+pub use model::{Info, Model, Patch, PatchInfo, Progress, Silent, Verification};
 pub use morph::{MorphOptions, MorphOutcome};
+pub use output::{write_atomic, Staged};

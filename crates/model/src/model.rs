@@ -1,9 +1,10 @@
 //! The model: the faces of any [`CadDocument`] as patches, their shared edges, and the
 //! document they came from.
 
+use crate::output::write_atomic;
 use std::collections::BTreeMap;
 use std::ops::RangeInclusive;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use cadmorph_brep::{BoundCurve, CadDocument, EntityRef, Face, Format, FreeCurve, ReadDocument, Skipped, Units};
 use cadmorph_nurbs::{NurbsCurve, NurbsSurface, Surface};
@@ -412,22 +413,4 @@ impl<D: CadDocument> Model<D> {
         };
         Ok(Verification { seams, max_deviation })
     }
-}
-
-/// Writes `bytes` to `path` through a temporary file in the same folder and a rename,
-/// so a failure never leaves half a file.
-///
-/// # Errors
-///
-/// [`Error::Write`] with the path.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let err = |source| Error::Write { path: path.to_owned(), source };
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let tmp: PathBuf = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    std::fs::write(&tmp, bytes).map_err(err)?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        err(e)
-    })
 }

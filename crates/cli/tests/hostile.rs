@@ -1,0 +1,179 @@
+//! The CLI under hostile input, limits and output faults (issue 13): each reproducer of
+//! `tests/repro/` (see its README) and each output case gives a clear error, exit 1 (2 for
+//! a bad command line), and leaves the target as it was, with no temporary file behind.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn cadmorph(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cadmorph")).args(args).current_dir(root()).output().expect("the binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A scratch folder removed when the test ends (also when it fails).
+struct Scratch(PathBuf);
+
+impl Scratch {
+    fn new(name: &str) -> Scratch {
+        let d = std::env::temp_dir().join(format!("cadmorph-hostile-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        Scratch(d)
+    }
+    fn path(&self, name: &str) -> String {
+        self.0.join(name).to_string_lossy().into_owned()
+    }
+    fn temporaries(&self) -> Vec<String> {
+        std::fs::read_dir(&self.0)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(".tmp"))
+            .collect()
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+const HULL: &str = "samples/hull3.igs";
+const BOW: &str = "samples/prm/bow_dome.prm";
+
+#[test]
+fn repro_uniform_refinement_of_a_huge_knot_span_and_of_too_many_knots() {
+    let s = Scratch::new("knots");
+    let out = s.path("k.igs");
+    let o = cadmorph(&["refine", "tests/repro/gen_knots_huge_span.igs", "-o", &out, "--knots", "3"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = cadmorph(&["refine", "tests/repro/gen_knots_huge_span.igs", "-o", &s.path("k2.igs"), "--knots", "100000"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("uniform refinement by 100000 knots") && e.contains("would need"), "{e}");
+    assert!(!Path::new(&s.path("k2.igs")).exists());
+}
+
+#[test]
+fn repro_lattices_past_memory_are_refused_with_the_parameter() {
+    let s = Scratch::new("lattice");
+    for (file, flag) in [("latwrap.prm", "--ffd"), ("lathuge.prm", "--ffd"), ("huge.toml", "--ffd")] {
+        let out = s.path("o.igs");
+        let o = cadmorph(&["morph", HULL, flag, &format!("tests/repro/{file}"), "-o", &out]);
+        assert_eq!(o.status.code(), Some(1), "{file}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(e.contains("FFD lattice") && e.contains("over the budget"), "{file}: {e}");
+        assert_eq!(e.lines().count(), 1, "one line: {e}");
+        assert!(!Path::new(&out).exists());
+    }
+    // A budget given on the command line is the one in force.
+    let o = cadmorph(&["--max-memory", "1k", "morph", HULL, "--ffd", BOW, "-o", &s.path("o.igs")]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("1.0 kB"), "{}", stderr(&o));
+    let o = cadmorph(&["--max-memory", "lots", "info", HULL]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
+#[test]
+fn bad_tolerances_are_refused() {
+    let s = Scratch::new("tol");
+    let out = s.path("o.igs");
+    for bad in ["nan", "inf", "0", "-1e-5"] {
+        let o = cadmorph(&["morph", HULL, "--ffd", BOW, "-o", &out, &format!("--refine-tol={bad}")]);
+        assert_eq!(o.status.code(), Some(2), "{bad}: {}", stderr(&o));
+        assert!(stderr(&o).contains("positive finite"), "{bad}: {}", stderr(&o));
+        let o =
+            cadmorph(&["morph", HULL, "--ffd", BOW, "-o", &out, "--refine-tol", "1e-5", &format!("--angle-tol={bad}")]);
+        assert_eq!(o.status.code(), Some(2), "{bad}: {}", stderr(&o));
+    }
+    // Below what f64 resolves at the hull's size (145 m).
+    let o = cadmorph(&["morph", HULL, "--ffd", BOW, "-o", &out, "--refine-tol", "1e-17"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("double precision"), "{}", stderr(&o));
+    assert!(!Path::new(&out).exists());
+}
+
+#[test]
+fn refinement_that_does_not_converge_fails_and_writes_nothing() {
+    // The defect hull's 33 mm gap was there before the morph: knot insertion cannot close
+    // it, and the control-point budget (20x the input) stops the refinement.
+    let s = Scratch::new("converge");
+    let out = s.path("o.igs");
+    let o = cadmorph(&["morph", "samples/hull3_defect.igs", "--ffd", BOW, "-o", &out, "--refine-tol", "1.45e-5"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("did not converge") && e.contains("nothing written"), "{e}");
+    assert!(!Path::new(&out).exists());
+    assert!(s.temporaries().is_empty());
+}
+
+#[test]
+fn outputs_that_are_not_regular_files_are_refused() {
+    let s = Scratch::new("kinds");
+    // /dev/null (named with a CAD extension through a link) stays a device.
+    let link = s.path("null.igs");
+    std::os::unix::fs::symlink("/dev/null", &link).unwrap();
+    let o = cadmorph(&["morph", HULL, "--ffd", BOW, "-o", &link]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("not a regular file"), "{}", stderr(&o));
+    assert!(std::os::unix::fs::FileTypeExt::is_char_device(&std::fs::metadata("/dev/null").unwrap().file_type()));
+    // A directory named like a file.
+    let dir = s.path("dir.igs");
+    std::fs::create_dir(&dir).unwrap();
+    let o = cadmorph(&["morph", HULL, "--ffd", BOW, "-o", &dir]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("is a directory"), "{}", stderr(&o));
+    assert!(s.temporaries().is_empty());
+}
+
+#[test]
+fn outputs_keep_links_and_permissions_and_nothing_is_replaced_before_everything_succeeded() {
+    use std::os::unix::fs::PermissionsExt;
+    let s = Scratch::new("replace");
+    let out = s.path("out.igs");
+    std::fs::write(&out, b"previous").unwrap();
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o604)).unwrap();
+    // A report that cannot be written: the output must not have been replaced.
+    let o = cadmorph(&["morph", HULL, "--ffd", BOW, "-o", &out, "--report", &s.path("no/such/dir/r.json")]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&out).unwrap(), b"previous");
+    // Through a link: the file it names is replaced, the link stays, permissions kept.
+    let link = s.path("link.igs");
+    std::os::unix::fs::symlink("out.igs", &link).unwrap();
+    let o = cadmorph(&["morph", HULL, "--ffd", BOW, "-o", &link]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+    assert!(std::fs::read(&out).unwrap().len() > 1000);
+    assert_eq!(std::fs::metadata(&out).unwrap().permissions().mode() & 0o777, 0o604);
+    // The output may be the input: it is replaced at once by the whole new file.
+    let o = cadmorph(&["morph", &out, "--ffd", BOW, "-o", &out]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = cadmorph(&["info", &out]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(s.temporaries().is_empty());
+}
+
+#[test]
+fn a_write_that_fails_midway_leaves_no_temporary_file() {
+    // The file-size limit makes the write fail with EFBIG after a few blocks.
+    let s = Scratch::new("efbig");
+    let out = s.path("big.stp");
+    let o = Command::new("bash")
+        .arg("-c")
+        .arg(format!("ulimit -f 8; exec \"$0\" morph samples/hull3.stp --ffd {BOW} -o {out}"))
+        .arg(env!("CARGO_BIN_EXE_cadmorph"))
+        .current_dir(root())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("writing"), "{}", stderr(&o));
+    assert!(!Path::new(&out).exists());
+    assert!(s.temporaries().is_empty(), "{:?}", s.temporaries());
+}
