@@ -18,6 +18,7 @@ mod progress;
 mod refine;
 mod sample;
 mod seams;
+mod skipped;
 
 use std::process::ExitCode;
 

@@ -52,6 +52,10 @@ pub struct Args {
     /// Make knots compatible across seams and make both sides identical after the morph.
     #[arg(long)]
     repair: bool,
+    /// Morph the faces that convert and keep the others as they are (listed on standard
+    /// error); without it, a file with faces that cannot be converted is refused.
+    #[arg(long)]
+    skip_unsupported: bool,
     /// Write the seam report (before and after) as JSON here.
     #[arg(long)]
     report: Option<PathBuf>,
@@ -74,6 +78,7 @@ pub fn run(a: Args) -> Result<()> {
     };
     let d = crate::params::deformation(path, Some(kind))?;
     let mut m = cadmorph::open(&a.input)?;
+    crate::skipped::check(&m.info().skipped, a.skip_unsupported)?;
     let before: usize = m.patches().iter().map(|p| p.surface.control_points().len()).sum();
     let refine = match a.refine_tol {
         Some(t) => {

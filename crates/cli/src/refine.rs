@@ -21,16 +21,21 @@ pub struct Args {
     #[arg(long = "for", requires = "tol")]
     for_params: Option<PathBuf>,
     /// ... so that the seams stay within this gap after it.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::limits::positive)]
     tol: Option<f64>,
+    /// Refine the faces that convert and keep the others as they are.
+    #[arg(long)]
+    skip_unsupported: bool,
 }
 
 /// Runs `refine`.
 pub fn run(a: Args) -> Result<()> {
     let mut m = cadmorph::open(&a.input)?;
+    crate::skipped::check(&m.info().skipped, a.skip_unsupported)?;
     let (before, after) = match (a.knots, &a.for_params, a.tol) {
         (Some(n), _, _) => m.refine(&MorphOptions { uniform_knots: Some(n), ..Default::default() }, None)?,
         (None, Some(p), Some(t)) => {
+            crate::limits::check_gap_tolerance("--tol", t, m.size(), m.unit())?;
             let d = crate::params::deformation(p, None)?;
             let opts = MorphOptions { refine: Some(SeamRefineOptions::new(t, 0.01)), ..Default::default() };
             m.refine(&opts, Some(d.as_ref()))?

@@ -20,6 +20,7 @@ pub struct Args {
 /// Runs `sample`.
 pub fn run(a: Args) -> Result<()> {
     let m = cadmorph::open(&a.file)?;
+    crate::skipped::warn(&m.info().skipped);
     let mut out = Vec::new();
     for p in m.patches() {
         let rows = crate::grid::rows(&p.surface, a.grid as usize, p.reversed);

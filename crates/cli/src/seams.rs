@@ -22,6 +22,7 @@ pub struct Args {
 /// Runs `seams`.
 pub fn run(a: Args) -> Result<()> {
     let m = cadmorph::open(&a.file)?;
+    crate::skipped::warn(&m.info().skipped);
     let r = {
         let bar = Bar::new();
         m.seams_with_progress(a.samples as usize, &bar)

@@ -177,3 +177,40 @@ fn a_write_that_fails_midway_leaves_no_temporary_file() {
     assert!(!Path::new(&out).exists());
     assert!(s.temporaries().is_empty(), "{:?}", s.temporaries());
 }
+
+/// An IGES file with the sample B-spline surface as one face and a 144 whose "surface"
+/// is a curve (a face nothing can convert).
+fn file_with_an_unconvertible_face() -> Vec<u8> {
+    use cadmorph::iges::write::DocumentBuilder;
+    use cadmorph::iges::{Document, EntityId, Status, Units, Value};
+    let doc = Document::parse(&std::fs::read(root().join("samples/bspline_surface.igs")).unwrap()).unwrap();
+    let surface = doc.surface(EntityId(1)).unwrap().surface;
+    let mut b = DocumentBuilder::new(Units::Millimetre);
+    b.add_surface(&surface);
+    let curve = b.add_curve(&surface.boundary(cadmorph::nurbs::Side::UMin));
+    b.set_status(curve, Status { subordinate: 1, ..Status::default() });
+    b.add_entity(
+        0,
+        Status::default(),
+        vec![Value::Integer(144), Value::Integer(curve.0 as i64), Value::Integer(0), Value::Integer(0)],
+    );
+    b.to_bytes()
+}
+
+#[test]
+fn faces_that_cannot_be_converted_are_named_and_stop_the_morph() {
+    let s = Scratch::new("skip");
+    let input = s.path("in.igs");
+    std::fs::write(&input, file_with_an_unconvertible_face()).unwrap();
+    let out = s.path("out.igs");
+    let o = cadmorph(&["morph", &input, "--ffd", "tests/repro/ok.prm", "-o", &out]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("cannot be converted") && stderr(&o).contains("DE 5"), "{}", stderr(&o));
+    assert!(!Path::new(&out).exists());
+    let o = cadmorph(&["morph", &input, "--ffd", "tests/repro/ok.prm", "-o", &out, "--skip-unsupported"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("warning: face DE 5"), "{}", stderr(&o));
+    let o = cadmorph(&["seams", &input]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("warning: face DE 5"), "{}", stderr(&o));
+}

@@ -320,13 +320,60 @@ impl Document {
                 }
                 out
             }
-            View::CurveOnSurface(c) => match c.model_curve {
-                Some(mc) => self.curve_at(mc, depth + 1, budget)?,
-                None => return Err(unsupported(self, id, "curve on surface without a model-space curve")),
+            View::CurveOnSurface(c) => match (c.model_curve, c.parameter_curve) {
+                (Some(mc), _) => self.curve_at(mc, depth + 1, budget)?,
+                (None, Some(pc)) => self.curve_on_surface(id, c.surface, pc, depth, budget)?,
+                (None, None) => {
+                    return Err(unsupported(
+                        self,
+                        id,
+                        "curve on surface with neither a model-space nor a parameter curve",
+                    ))
+                }
             },
             _ => return Err(unsupported(self, id, "not a curve entity")),
         };
         Ok(local.into_iter().map(|c| if m == Matrix4::identity() { c } else { c.transformed(&m) }).collect())
+    }
+
+    /// The model-space curve of a curve on surface (142) that names only its
+    /// parameter-space curve, rebuilt as OCCT's IGES reader does: the surface evaluated
+    /// along the parameter curve, `S(p(t))`, here fitted by a cubic B-spline within
+    /// `1e-8 ×` the surface's size (nurbs `fit_curve`, with the parameter curve's knots as
+    /// breaks). IGES 5.3 §4.11 (entity 142): the parameter curve lives in the surface's
+    /// parameter space, mapped to the exact NURBS form's parameters by its `ParamMap`.
+    ///
+    /// A surface whose extent comes from its face's bounds (an unbounded analytic
+    /// surface) cannot be placed without them: that stays unsupported.
+    fn curve_on_surface(
+        &self,
+        id: EntityId,
+        surface: EntityId,
+        parameter_curve: EntityId,
+        depth: usize,
+        budget: &mut usize,
+    ) -> Result<Vec<NurbsCurve>> {
+        let s = self.child_surface(surface, &[], depth + 1).map_err(|_| {
+            unsupported(self, id, "curve on surface without a model-space curve, on a surface placed by its bounds")
+        })?;
+        let size = s.surface.control_extent();
+        let (ud, vd) = s.surface.domain();
+        let mut out = Vec::new();
+        for p in self.curve_at(parameter_curve, depth + 1, budget)? {
+            let d = p.domain();
+            let f = |t: f64| {
+                let q = cadmorph_nurbs::Curve::eval(&p, t);
+                let (u, v) = s.nurbs_params(q.x, q.y);
+                let (u, v) = (u.clamp(*ud.start(), *ud.end()), v.clamp(*vd.start(), *vd.end()));
+                cadmorph_nurbs::Surface::eval(&s.surface, u, v)
+            };
+            let breaks = p.knots().as_slice().to_vec();
+            let (c, _) =
+                cadmorph_nurbs::fit_curve(f, (*d.start(), *d.end()), &breaks, 3, 1e-8 * size.max(1e-300), 4096)
+                    .map_err(geometry(id))?;
+            out.push(c);
+        }
+        Ok(out)
     }
 
     /// A point entity (116) with its own transformation applied.
