@@ -19,13 +19,20 @@ pub fn npy(name: &str) -> (Vec<usize>, Vec<f64>) {
     };
     let header = std::str::from_utf8(&bytes[start..start + hlen]).unwrap();
     assert!(header.contains("'descr': '<f8'"), "{name}: {header}");
-    assert!(header.contains("'fortran_order': False"), "{name}: {header}");
+    let fortran = header.contains("'fortran_order': True");
     let s = header.split("'shape': (").nth(1).unwrap();
     let s = &s[..s.find(')').unwrap()];
     let shape: Vec<usize> = s.split(',').map(str::trim).filter(|t| !t.is_empty()).map(|t| t.parse().unwrap()).collect();
     let body = &bytes[start + hlen..];
     let vals: Vec<f64> = body.chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().unwrap())).collect();
     assert_eq!(vals.len(), shape.iter().product::<usize>(), "{name}");
+    if fortran && shape.len() == 2 {
+        // Column-major: element (i, j) at j * rows + i; return it in C order.
+        let (r, c) = (shape[0], shape[1]);
+        let t = (0..r * c).map(|k| vals[(k % c) * r + k / c]).collect();
+        return (shape, t);
+    }
+    assert!(!fortran || shape.len() < 2, "{name}: Fortran order of rank {}", shape.len());
     (shape, vals)
 }
 
