@@ -158,6 +158,21 @@ pub fn face_area(s: &NurbsSurface) -> f64 {
 fn integrate(s: &NurbsSurface, f: impl Fn(&cadmorph_nurbs::SurfacePointD1) -> f64) -> f64 {
     let (uk, _) = s.u_knots().distinct();
     let (vk, _) = s.v_knots().distinct();
+    // Rational faces (the hub) are not polynomial: split each span in 4 (the 6-point
+    // rule then integrates a quarter circle to ~1e-15 instead of ~1e-9).
+    let split = |k: Vec<f64>| -> Vec<f64> {
+        if !s.is_rational() {
+            return k;
+        }
+        let mut out = vec![k[0]];
+        for w in k.windows(2) {
+            for i in 1..=4 {
+                out.push(w[0] + (w[1] - w[0]) * i as f64 / 4.0);
+            }
+        }
+        out
+    };
+    let (uk, vk) = (split(uk), split(vk));
     let mut total = 0.0;
     for uw in uk.windows(2) {
         for vw in vk.windows(2) {
