@@ -318,6 +318,17 @@ impl BladeSolid {
         self.wrapped.surface.transform_by(m);
     }
 
+    /// The seams between the faces as `cadmorph-seam` finds and measures them: every
+    /// pair of coinciding iso-boundaries within `tol`, sampled at `samples` points
+    /// (C0 gap, G1 angle). Round leading edge: 0° there; the trailing edge and the caps
+    /// are sharp edges by construction.
+    pub fn seams(&self, tol: f64, samples: usize) -> cadmorph_seam::SeamReport {
+        let faces = self.faces();
+        let edges = cadmorph_seam::shared_boundaries(&faces, tol, 32, 0.9);
+        let fs: Vec<cadmorph_seam::Face> = faces.iter().map(|s| cadmorph_seam::Face { surface: s, reversed: false }).collect();
+        cadmorph_seam::SeamReport::new(edges.iter().map(|e| cadmorph_seam::measure_boundary(&fs, e, samples)).collect())
+    }
+
     /// Distances between the section points and the wrapped surface at their
     /// parameters, per section (the figures of BladeX's `errors.txt`, which measures them
     /// by projection; a distance at the assigned parameters bounds the projection's).

@@ -63,21 +63,26 @@ fn shared_edges_are_identical_and_volume_positive() {
         }
     }
     assert_eq!(matched, 2, "LE and TE edges shared exactly");
-    // Tip edge of upper lies on the tip cap's boundary.
-    let tip_u = s.upper.boundary(Side::VMax);
-    let cap = [s.tip.boundary(Side::VMin), s.tip.boundary(Side::VMax)];
-    let d = tip_u.domain();
-    for i in 0..=50 {
-        let t = d.start() + (d.end() - d.start()) * i as f64 / 50.0;
-        let p = tip_u.eval(t);
-        let best = cap
-            .iter()
-            .map(|c| {
-                let cd = c.domain();
-                (0..=2000).map(|j| (c.eval(cd.start() + (cd.end() - cd.start()) * j as f64 / 2000.0) - p).norm()).fold(f64::MAX, f64::min)
+    // Tip and root edges of upper and lower lie on a boundary of their cap (projection).
+    use cadmorph_nurbs::CurveProject;
+    for (face, side, cap) in [
+        (&s.upper, Side::VMax, &s.tip),
+        (&s.lower, Side::VMax, &s.tip),
+        (&s.upper, Side::VMin, &s.root),
+        (&s.lower, Side::VMin, &s.root),
+    ] {
+        let edge = face.boundary(side);
+        let d = edge.domain();
+        let worst = (0..=100)
+            .map(|i| {
+                let p = edge.eval(d.start() + (d.end() - d.start()) * i as f64 / 100.0);
+                [Side::VMin, Side::VMax]
+                    .iter()
+                    .map(|cs| cap.boundary(*cs).project(&p, 1e-14).distance_sq.sqrt())
+                    .fold(f64::MAX, f64::min)
             })
-            .fold(f64::MAX, f64::min);
-        assert!(best < 2e-3, "{best}");
+            .fold(0.0, f64::max);
+        assert!(worst <= 1e-12, "{side:?}: {worst:e}");
     }
     let v = s.volume();
     assert!(v > 0.0);
@@ -86,6 +91,40 @@ fn shared_edges_are_identical_and_volume_positive() {
     let chord = [0.55, 0.7, 0.85, 1.0, 1.03, 1.0, 0.97, 0.94, 0.91, 0.3];
     let est: f64 = chord.windows(2).map(|w| 0.1 * 0.0822 * (w[0] * w[0] + w[1] * w[1]) / 2.0).sum();
     assert!((v - est).abs() < 0.05 * est, "volume {v} vs thin-section estimate {est}");
+}
+
+#[test]
+fn seams_are_closed() {
+    // cadmorph-seam finds the six edges (LE, TE, upper/lower at tip and root) and
+    // measures them closed to 1e-9 × diameter; the round leading edge has no kink.
+    let c = sample_blade("2412").apply_transformations(true).unwrap();
+    let s = BladeSolid::from_coordinates(&c, 3, 3).unwrap();
+    let diameter = 2.0 * 1.3;
+    let r = s.seams(1e-6 * diameter, 100);
+    assert_eq!(r.edges.len(), 6, "{}", r.table());
+    // cadmorph-seam pairs the upper tip edge with the tip cap over half its length only
+    // and then reports a meaningless gap on that pair (an adjacency limitation of
+    // `shared_boundaries`, left to the seam crate; the projection test above shows the
+    // edge on the cap to 1e-12). Every pair it matches over the whole edge is checked.
+    let full = |e: &cadmorph_seam::EdgeReport| {
+        let c = if e.a.patch == 0 { &s.upper } else if e.a.patch == 1 { &s.lower } else if e.a.patch == 2 { &s.tip } else { &s.root };
+        let b = c.boundary(e.a.side.expect("iso-boundary edge"));
+        let d = b.domain();
+        let len: f64 = (0..200)
+            .map(|i| {
+                let t = |k: usize| d.start() + (d.end() - d.start()) * k as f64 / 200.0;
+                (b.eval(t(i + 1)) - b.eval(t(i))).norm()
+            })
+            .sum();
+        e.length >= 0.99 * len
+    };
+    let checked: Vec<_> = r.edges.iter().filter(|e| full(e)).collect();
+    assert!(checked.len() >= 5, "{}", r.table());
+    for e in checked {
+        assert!(e.gap_closest.max <= 1e-9 * diameter, "{}", r.table());
+    }
+    let le = r.edges.iter().filter(|e| e.g1_angle_unoriented_deg.max < 1e-6).count();
+    assert!(le >= 1, "the leading edge is smooth: {}", r.table());
 }
 
 #[test]
