@@ -3,6 +3,8 @@
 //! Exit codes: 0 success, 1 runtime failure (unreadable or malformed input, a morph that
 //! folds space or produces NaN: nothing is written then), 2 bad command line.
 
+mod cmd_blade;
+
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -69,6 +71,11 @@ struct MorphSource {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Blades and propellers from design tables (BladeX-compatible).
+    Blade {
+        #[command(subcommand)]
+        command: cmd_blade::BladeCommand,
+    },
     /// Units, entity counts and faces of an IGES or STEP file.
     Info {
         /// An IGES or STEP file.
@@ -426,6 +433,7 @@ fn eval(file: &PathBuf, grid: usize, only: Option<usize>, json: bool) -> Result<
 
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
+        Command::Blade { command } => cmd_blade::run(command),
         Command::Info { file, json } => info(&file, json),
         Command::Sample { file, grid, json } => sample(&file, grid as usize, json),
         Command::Seams { file, samples, json } => seams(&file, samples as usize, json),

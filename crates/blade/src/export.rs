@@ -54,21 +54,24 @@ pub fn step_solids(name: &str, solids: &[Vec<&NurbsSurface>], unit: LengthUnit, 
 /// The topology of one closed shell, found as the STEP builder finds it: vertices that
 /// coincide within `tol`, edges with the same end vertices and midpoint, loops
 /// `VMin(+) UMax(+) VMax(−) UMin(−)` without collapsed sides.
-struct Shell {
-    vertices: Vec<Point3<f64>>,
+pub(crate) struct Shell {
+    pub(crate) vertices: Vec<Point3<f64>>,
     /// (start vertex, end vertex, curve)
-    edges: Vec<(usize, usize, NurbsCurve)>,
+    pub(crate) edges: Vec<(usize, usize, NurbsCurve)>,
     /// per face: (edge, agrees with the edge's curve direction)
-    loops: Vec<Vec<(usize, bool)>>,
+    pub(crate) loops: Vec<Vec<(usize, bool)>>,
+    /// per edge: the (face, side) boundaries that use it
+    pub(crate) uses: Vec<Vec<(usize, Side)>>,
 }
 
-fn shell_topology(faces: &[&NurbsSurface], tol: f64) -> Shell {
+pub(crate) fn shell_topology(faces: &[&NurbsSurface], tol: f64) -> Shell {
     let tol_sq = tol * tol;
     let mut vertices: Vec<Point3<f64>> = Vec::new();
     let mut edges: Vec<(usize, usize, NurbsCurve)> = Vec::new();
     let mut mids: Vec<Point3<f64>> = Vec::new();
     let mut loops = Vec::new();
-    for s in faces {
+    let mut uses: Vec<Vec<(usize, Side)>> = Vec::new();
+    for (fi, s) in faces.iter().enumerate() {
         let (ud, vd) = s.domain();
         let (u0, u1, v0, v1) = (*ud.start(), *ud.end(), *vd.start(), *vd.end());
         let corners = [s.eval(u0, v0), s.eval(u1, v0), s.eval(u1, v1), s.eval(u0, v1)];
@@ -100,14 +103,16 @@ fn shell_topology(faces: &[&NurbsSurface], tol: f64) -> Shell {
                 None => {
                     edges.push((va, vb, c));
                     mids.push(mid);
+                    uses.push(Vec::new());
                     (edges.len() - 1, true)
                 }
             };
+            uses[k].push((fi, side));
             lp.push((k, same == forward));
         }
         loops.push(lp);
     }
-    Shell { vertices, edges, loops }
+    Shell { vertices, edges, loops, uses }
 }
 
 /// The IGES text of one or more solids (see the module docs), each a list of closed,

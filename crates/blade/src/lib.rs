@@ -50,6 +50,6 @@ pub use propeller::{hub_cylinder, Propeller};
 pub use report::errors_txt;
 pub use reverse::{reverse, RecoveredSection};
 pub use table::{DesignTable, LoftSpec, ProfileSpec, PropellerSpec};
-pub use solid::{face_area, face_volume, ruled, BladeSolid, SectionError};
+pub use solid::{face_area, face_volume, ruled, BladeSolid, EdgeGap, SectionError};
 pub use radial::{optimum_control_points, Deformation, RadialLaw};
 pub use profile::{Convention, Profile, ProfileParameters};

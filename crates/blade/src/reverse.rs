@@ -39,11 +39,12 @@ fn cut(s: &NurbsSurface, u: f64, r: f64) -> Result<Point3<f64>> {
     let (_, vd) = s.domain();
     let (mut a, mut b) = (*vd.start(), *vd.end());
     let (ra, rb) = (rho(&s.eval(u, a)) - r, rho(&s.eval(u, b)) - r);
-    // The end sections lie on their cylinders to the interpolation's round-off.
-    if ra.abs() <= 1e-9 * r {
+    // The end sections lie on their cylinders to round-off (and to the file precision
+    // for faces read back): accept the ends within 1e-6 relative.
+    if ra.abs() <= 1e-6 * r {
         return Ok(s.eval(u, a));
     }
-    if rb.abs() <= 1e-9 * r {
+    if rb.abs() <= 1e-6 * r {
         return Ok(s.eval(u, b));
     }
     if ra * rb > 0.0 {

@@ -191,6 +191,15 @@ fn integrate(s: &NurbsSurface, f: impl Fn(&cadmorph_nurbs::SurfacePointD1) -> f6
     total
 }
 
+/// The gap along one edge of the solid.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct EdgeGap {
+    /// The two faces (indices into [`BladeSolid::faces`]).
+    pub faces: [usize; 2],
+    /// Largest distance found.
+    pub gap: f64,
+}
+
 /// Per-section interpolation errors: the largest distance between a section point and
 /// the face at the point's parameters, upper and lower side.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -316,6 +325,35 @@ impl BladeSolid {
             t(s);
         }
         self.wrapped.surface.transform_by(m);
+    }
+
+    /// The gap of every edge of the solid's topology (the edges the STEP and IGES
+    /// writers share between faces, found as they find them within `tol`): `samples`
+    /// points of one face's boundary projected onto the other face's boundary curve.
+    /// An edge used by only one face (a hole in the shell) has an infinite gap.
+    pub fn edge_gaps(&self, tol: f64, samples: usize) -> Vec<EdgeGap> {
+        use cadmorph_nurbs::CurveProject;
+        let faces = self.faces();
+        let shell = crate::export::shell_topology(&faces, tol);
+        shell
+            .uses
+            .iter()
+            .map(|u| match u.as_slice() {
+                [(fa, sa), (fb, sb)] => {
+                    let (a, b) = (faces[*fa].boundary(*sa), faces[*fb].boundary(*sb));
+                    let d = a.domain();
+                    let n = samples.max(2);
+                    let gap = (0..n)
+                        .map(|i| {
+                            let p = a.eval(d.start() + (d.end() - d.start()) * i as f64 / (n - 1) as f64);
+                            b.project(&p, 1e-3 * tol).distance_sq.sqrt()
+                        })
+                        .fold(0.0, f64::max);
+                    EdgeGap { faces: [*fa, *fb], gap }
+                }
+                other => EdgeGap { faces: [other.first().map_or(0, |x| x.0), usize::MAX], gap: f64::INFINITY },
+            })
+            .collect()
     }
 
     /// The seams between the faces as `cadmorph-seam` finds and measures them: every

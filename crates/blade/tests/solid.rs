@@ -123,6 +123,12 @@ fn seams_are_closed() {
     for e in checked {
         assert!(e.gap_closest.max <= 1e-9 * diameter, "{}", r.table());
     }
+    // The topology the writers share: six edges, each closed to 1e-9 × diameter.
+    let gaps = s.edge_gaps(1e-9 * diameter, 200);
+    assert_eq!(gaps.len(), 6);
+    for g in &gaps {
+        assert!(g.gap <= 1e-9 * diameter, "{g:?}");
+    }
     let le = r.edges.iter().filter(|e| e.g1_angle_unoriented_deg.max < 1e-6).count();
     assert!(le >= 1, "the leading edge is smooth: {}", r.table());
 }
