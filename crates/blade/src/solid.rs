@@ -280,11 +280,7 @@ impl BladeSolid {
         } else {
             None
         };
-        let solid = Self { upper, lower, tip, root, trailing, wrapped, le_index };
-        if solid.volume() < 0.0 {
-            return Err(Error::Geometry("the blade faces enclose a negative volume (self-intersecting sections?)".into()));
-        }
-        Ok(solid)
+        Ok(Self { upper, lower, tip, root, trailing, wrapped, le_index })
     }
 
     /// The faces, outward: upper, lower, tip, root and the trailing-edge face if any.
