@@ -186,8 +186,11 @@ pub fn run(cmd: BladeCommand) -> Result<()> {
             let p = Propeller::new(&solid, n, hub_r, -len / 2.0, len / 2.0)?;
             let diameter = 2.0 * blade.radii[blade.len() - 1];
             let tol = 1e-9 * diameter;
-            let bytes =
-                if is_step(&output)? { step_solids(&t.name, &p.solids(), t.unit, tol)? } else { iges_solids(&p.solids(), t.unit, tol, None) };
+            let bytes = if is_step(&output)? {
+                step_solids(&t.name, &p.solids(), t.unit, tol)?
+            } else {
+                iges_solids(&p.solids(), t.unit, tol, None)
+            };
             write_atomic(&output, &bytes)?;
             let blade_v = solid.volume();
             if json {
@@ -201,7 +204,12 @@ pub fn run(cmd: BladeCommand) -> Result<()> {
                 });
                 println!("{}", serde_json::to_string_pretty(&out)?);
             } else {
-                println!("{} -> {}: {n} blades (volume {blade_v:.9e} each) + hub, {} solids", path.display(), output.display(), n + 1);
+                println!(
+                    "{} -> {}: {n} blades (volume {blade_v:.9e} each) + hub, {} solids",
+                    path.display(),
+                    output.display(),
+                    n + 1
+                );
             }
             Ok(())
         }
@@ -218,7 +226,10 @@ pub fn run(cmd: BladeCommand) -> Result<()> {
             } else {
                 println!("{:>14} {:>14} {:>14} {:>14} {:>14}", "radius", "chord", "pitch", "rake", "skew[deg]");
                 for s in &got {
-                    println!("{:>14.9} {:>14.9} {:>14.9} {:>14.9} {:>14.9}", s.radius, s.chord, s.pitch, s.rake, s.skew);
+                    println!(
+                        "{:>14.9} {:>14.9} {:>14.9} {:>14.9} {:>14.9}",
+                        s.radius, s.chord, s.pitch, s.rake, s.skew
+                    );
                 }
             }
             Ok(())

@@ -36,7 +36,9 @@ fn main() {
             t[k].push((*y - *x).as_secs_f64() * 1e3);
         }
     }
-    for (name, v) in ["table -> profiles", "placement + wrap", "loft alone", "solid (loft, split, caps)", "IGES text"].iter().zip(t) {
+    for (name, v) in
+        ["table -> profiles", "placement + wrap", "loft alone", "solid (loft, split, caps)", "IGES text"].iter().zip(t)
+    {
         println!("{name:>28}: {:8.3} ms", med(v));
     }
 }

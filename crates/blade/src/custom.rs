@@ -74,14 +74,14 @@ impl Profile {
         let wide = lines.iter().skip(1).all(|(_, l)| l.split(',').count() == 4);
         let mut cols: Vec<(String, Vec<f64>)> = Vec::new();
         if wide && lines.len() > 1 {
-            let names: Vec<String> = lines[0].1.split(',').map(|s| s.trim().trim_end_matches(':').to_uppercase()).collect();
+            let names: Vec<String> =
+                lines[0].1.split(',').map(|s| s.trim().trim_end_matches(':').to_uppercase()).collect();
             cols = names.into_iter().map(|n| (n, Vec::new())).collect();
             for (no, l) in &lines[1..] {
                 for (k, cell) in l.split(',').enumerate() {
-                    let v: f64 = cell
-                        .trim()
-                        .parse()
-                        .map_err(|_| Error::profile(format!("line {no}, column {}", k + 1), format!("{cell:?} is not a number")))?;
+                    let v: f64 = cell.trim().parse().map_err(|_| {
+                        Error::profile(format!("line {no}, column {}", k + 1), format!("{cell:?} is not a number"))
+                    })?;
                     cols[k].1.push(v);
                 }
             }
@@ -136,7 +136,10 @@ impl Profile {
             return Err(Error::profile("camber_perc", format!("{} values for {n} chord_perc", camber_perc.len())));
         }
         if thickness_perc.len() != n {
-            return Err(Error::profile("thickness_perc", format!("{} values for {n} chord_perc", thickness_perc.len())));
+            return Err(Error::profile(
+                "thickness_perc",
+                format!("{} values for {n} chord_perc", thickness_perc.len()),
+            ));
         }
         if n < 2 {
             return Err(Error::profile("chord_perc", "at least 2 stations"));
@@ -166,7 +169,9 @@ impl Profile {
                     let m = if i == 0 {
                         0.0
                     } else {
-                        (camber_perc[i] - camber_perc[i - 1]) * camber_max / (chord_perc[i] - chord_perc[i - 1]) / chord_len
+                        (camber_perc[i] - camber_perc[i - 1]) * camber_max
+                            / (chord_perc[i] - chord_perc[i - 1])
+                            / chord_len
                     };
                     let th = m.atan();
                     p.xup.push(x[i] - h[i] * th.sin());

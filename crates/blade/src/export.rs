@@ -85,7 +85,8 @@ pub(crate) fn shell_topology(faces: &[&NurbsSurface], tol: f64) -> Shell {
                 }
             })
             .collect();
-        let sides = [(Side::VMin, 0, 1, true), (Side::UMax, 1, 2, true), (Side::VMax, 3, 2, false), (Side::UMin, 0, 3, false)];
+        let sides =
+            [(Side::VMin, 0, 1, true), (Side::UMax, 1, 2, true), (Side::VMax, 3, 2, false), (Side::UMin, 0, 3, false)];
         let mut lp = Vec::new();
         for (side, a, b, forward) in sides {
             let c = s.boundary(side);
@@ -149,7 +150,11 @@ pub fn iges_solids(solids: &[Vec<&NurbsSurface>], unit: LengthUnit, tol: f64, st
                 l.extend([int(0), ptr(elist), int(k + 1), int(usize::from(*agrees)), int(0)]);
             }
             let loop_id = b.add_entity(1, dependent, l);
-            face_ids.push(b.add_entity(1, dependent, vec![Value::Integer(510), ptr(surf[f]), int(1), int(1), ptr(loop_id)]));
+            face_ids.push(b.add_entity(
+                1,
+                dependent,
+                vec![Value::Integer(510), ptr(surf[f]), int(1), int(1), ptr(loop_id)],
+            ));
         }
         let mut sh = vec![Value::Integer(514), int(face_ids.len())];
         for f in &face_ids {

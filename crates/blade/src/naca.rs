@@ -115,6 +115,8 @@ pub fn naca(code: &str, options: NacaOptions) -> Result<Profile> {
             let p = 5.0 * digits[1] / 100.0;
             let s = digits[2];
             let t = (digits[3] * 10.0 + digits[4]) / 100.0;
+            // Abbott's table values (0.318 is a tabulated camber position, not 1/π).
+            #[allow(clippy::approx_constant)]
             let (pt, mt, kt): (&[f64], &[f64], &[f64]) = if s == 1.0 {
                 (&[0.1, 0.15, 0.2, 0.25], &[0.13, 0.2170, 0.318, 0.441], &[51.99, 15.793, 6.520, 3.191])
             } else if s == 0.0 {
@@ -154,7 +156,9 @@ pub fn naca(code: &str, options: NacaOptions) -> Result<Profile> {
                 (c, sl, t, cld / 0.3)
             }
         }
-        _ => return Err(code_error(code, format!("{} digits: only 4- and 5-digit series are supported", digits.len()))),
+        _ => {
+            return Err(code_error(code, format!("{} digits: only 4- and 5-digit series are supported", digits.len())))
+        }
     };
     if t == 0.0 {
         return Err(code_error(code, "zero thickness (last two digits 00)"));

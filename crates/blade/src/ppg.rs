@@ -23,7 +23,8 @@ pub fn c_exp(x: f64) -> String {
 /// Those of the profile measurements.
 pub fn export_ppg(blade: &Blade, d_prop: f64, d_hub: f64, n_blades: usize, normalized: bool) -> Result<String> {
     let n = blade.len();
-    let (rs, cs, ps, ks) = if normalized { (1.0, 1.0, 1.0, 1.0) } else { (2.0 / d_prop, 1.0 / d_prop, 1.0 / d_prop, 1.0 / d_prop) };
+    let (rs, cs, ps, ks) =
+        if normalized { (1.0, 1.0, 1.0, 1.0) } else { (2.0 / d_prop, 1.0 / d_prop, 1.0 / d_prop, 1.0 / d_prop) };
     let mut t = String::new();
     t.push_str("propeller id       = SVA\n");
     t.push_str(&format!("propeller diameter = {}\n", crate::prm::py_float(d_prop)));
@@ -34,7 +35,9 @@ pub fn export_ppg(blade: &Blade, d_prop: f64, d_hub: f64, n_blades: usize, norma
     t.push_str(&format!("number of radial sections         = {n}\n"));
     t.push_str(&format!("number of sectional profiles      = {n}\n"));
     t.push_str("description of sectional profiles = BNF\n");
-    t.push_str("            r/R            c/D      skew[deg]         rake/D            P/D            t/C            f/C\n");
+    t.push_str(
+        "            r/R            c/D      skew[deg]         rake/D            P/D            t/C            f/C\n",
+    );
     for i in 0..n {
         let s = &blade.sections[i];
         let th = s.max_thickness(None)?;
@@ -62,8 +65,20 @@ pub fn export_ppg(blade: &Blade, d_prop: f64, d_hub: f64, n_blades: usize, norma
         }
     }
     let hub = [
-        [-3.0, 0.305], [-0.57, 0.305], [-0.49, 0.305], [-0.41, 0.305], [-0.33, 0.305], [-0.25, 0.305], [-0.17, 0.305],
-        [0.23, 0.305], [0.31, 0.285], [0.39, 0.2656], [0.47, 0.2432], [0.55, 0.2124], [0.63, 0.1684], [0.71, 0.108],
+        [-3.0, 0.305],
+        [-0.57, 0.305],
+        [-0.49, 0.305],
+        [-0.41, 0.305],
+        [-0.33, 0.305],
+        [-0.25, 0.305],
+        [-0.17, 0.305],
+        [0.23, 0.305],
+        [0.31, 0.285],
+        [0.39, 0.2656],
+        [0.47, 0.2432],
+        [0.55, 0.2124],
+        [0.63, 0.1684],
+        [0.71, 0.108],
         [0.79, 0.0],
     ];
     t.push_str(&format!("number of Hub offsets = {}\n", hub.len()));

@@ -121,7 +121,11 @@ fn parse_ini(text: &str, file: &str) -> Result<Vec<Entry>> {
         open = false;
         if trimmed.starts_with('[') {
             let Some(name) = trimmed.strip_prefix('[').and_then(|t| t.strip_suffix(']')) else {
-                return Err(Error::Prm { file: file.into(), line: no, reason: format!("bad section header {trimmed:?}") });
+                return Err(Error::Prm {
+                    file: file.into(),
+                    line: no,
+                    reason: format!("bad section header {trimmed:?}"),
+                });
             };
             section = Some(name.to_owned());
             continue;
@@ -212,7 +216,6 @@ pub fn py_float(x: f64) -> String {
     let (mant, exp) = e.split_once('e').unwrap_or((&e, "0"));
     let exp: i32 = exp.parse().unwrap_or(0);
     if !(-4..16).contains(&exp) {
-        let mant = if mant.contains('.') { mant.to_owned() } else { mant.to_owned() };
         return format!("{mant}e{}{:02}", if exp < 0 { '-' } else { '+' }, exp.abs());
     }
     let s = format!("{x}");

@@ -93,9 +93,10 @@ impl Profile {
         if self.xup.len() < 2 || self.xdown.len() < 2 {
             return Err(Error::profile("xup", "each side needs at least 2 points"));
         }
-        if let Some((name, i)) = [("xup", &self.xup), ("yup", &self.yup), ("xdown", &self.xdown), ("ydown", &self.ydown)]
-            .iter()
-            .find_map(|(n, v)| v.iter().position(|x| !x.is_finite()).map(|i| (*n, i)))
+        if let Some((name, i)) =
+            [("xup", &self.xup), ("yup", &self.yup), ("xdown", &self.xdown), ("ydown", &self.ydown)]
+                .iter()
+                .find_map(|(n, v)| v.iter().position(|x| !x.is_finite()).map(|i| (*n, i)))
         {
             return Err(Error::profile(format!("{name}[{i}]"), "not a finite number"));
         }
@@ -375,7 +376,9 @@ impl Profile {
     /// Rotates counter-clockwise by `angle` radians about the origin (BladeX `rotate`).
     pub fn rotate(&mut self, angle: f64) {
         let (s, c) = (angle.sin(), angle.cos());
-        for (x, y) in self.xup.iter_mut().zip(self.yup.iter_mut()).chain(self.xdown.iter_mut().zip(self.ydown.iter_mut())) {
+        for (x, y) in
+            self.xup.iter_mut().zip(self.yup.iter_mut()).chain(self.xdown.iter_mut().zip(self.ydown.iter_mut()))
+        {
             let (x0, y0) = (*x, *y);
             *x = c * x0 + (-s) * y0;
             *y = s * x0 + c * y0;
@@ -384,7 +387,9 @@ impl Profile {
 
     /// Mirrors about both axes, `(x, y) → (−x, −y)` (BladeX `reflect`).
     pub fn reflect(&mut self) {
-        for v in self.xup.iter_mut().chain(self.xdown.iter_mut()).chain(self.yup.iter_mut()).chain(self.ydown.iter_mut()) {
+        for v in
+            self.xup.iter_mut().chain(self.xdown.iter_mut()).chain(self.yup.iter_mut()).chain(self.ydown.iter_mut())
+        {
             *v *= -1.0;
         }
     }
@@ -400,7 +405,9 @@ impl Profile {
         if about_reference {
             self.translate([-r[0], -r[1]]);
         }
-        for v in self.xup.iter_mut().chain(self.xdown.iter_mut()).chain(self.yup.iter_mut()).chain(self.ydown.iter_mut()) {
+        for v in
+            self.xup.iter_mut().chain(self.xdown.iter_mut()).chain(self.yup.iter_mut()).chain(self.ydown.iter_mut())
+        {
             *v *= factor;
         }
         if about_reference {

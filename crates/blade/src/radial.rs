@@ -39,7 +39,10 @@ pub fn optimum_control_points(
     rbf_points: usize,
 ) -> Result<Vec<[f64; 2]>> {
     if nbasis < 3 || degree == 0 || degree >= nbasis {
-        return Err(law_error(param, format!("degree {degree} with {nbasis} control points (need 0 < degree < nbasis, nbasis ≥ 3)")));
+        return Err(law_error(
+            param,
+            format!("degree {degree} with {nbasis} control points (need 0 < degree < nbasis, nbasis ≥ 3)"),
+        ));
     }
     if x.len() != y.len() || x.len() < 2 {
         return Err(law_error(param, format!("{} radii for {} values", x.len(), y.len())));
@@ -89,8 +92,19 @@ impl RadialLaw {
     /// # Errors
     ///
     /// As [`optimum_control_points`].
-    pub fn fit(param: LawParam, radii: &[f64], values: &[f64], degree: usize, nbasis: usize, rbf_points: usize) -> Result<Self> {
-        Ok(Self { param, degree, control_points: optimum_control_points(param, radii, values, degree, nbasis, rbf_points)? })
+    pub fn fit(
+        param: LawParam,
+        radii: &[f64],
+        values: &[f64],
+        degree: usize,
+        nbasis: usize,
+        rbf_points: usize,
+    ) -> Result<Self> {
+        Ok(Self {
+            param,
+            degree,
+            control_points: optimum_control_points(param, radii, values, degree, nbasis, rbf_points)?,
+        })
     }
 
     /// Adds `dy[i]` to the value of control point `i` (BladeX `update_control_points`).

@@ -48,7 +48,11 @@ fn cut(s: &NurbsSurface, u: f64, r: f64) -> Result<Point3<f64>> {
         return Ok(s.eval(u, b));
     }
     if ra * rb > 0.0 {
-        return Err(Error::Geometry(format!("radius {r} does not cut the face (its radii run {} to {})", ra + r, rb + r)));
+        return Err(Error::Geometry(format!(
+            "radius {r} does not cut the face (its radii run {} to {})",
+            ra + r,
+            rb + r
+        )));
     }
     let up = rb > ra;
     for _ in 0..200 {
@@ -100,7 +104,13 @@ fn edge_params(upper: &NurbsSurface, lower: &NurbsSurface) -> (f64, f64, f64, f6
 /// # Errors
 ///
 /// [`Error::Geometry`] when a radius does not cut the faces.
-pub fn reverse(upper: &NurbsSurface, lower: &NurbsSurface, radii: &[f64], reflect: bool, n_points: usize) -> Result<Vec<RecoveredSection>> {
+pub fn reverse(
+    upper: &NurbsSurface,
+    lower: &NurbsSurface,
+    radii: &[f64],
+    reflect: bool,
+    n_points: usize,
+) -> Result<Vec<RecoveredSection>> {
     let (ule, ute, lle, lte) = edge_params(upper, lower);
     let n = n_points.max(2);
     radii

@@ -11,6 +11,7 @@ use crate::{Error, Result};
 
 /// Gauss–Legendre nodes and weights on [−1, 1], 6 points (exact for degree 11, which
 /// covers `S · (S_u × S_v)` of bicubic patches, degree 8 per direction).
+#[allow(clippy::excessive_precision)]
 const GAUSS: [(f64, f64); 6] = [
     (-0.932_469_514_203_152_1, 0.171_324_492_379_170_4),
     (-0.661_209_386_466_264_5, 0.360_761_573_048_138_6),
@@ -78,7 +79,11 @@ fn wrapped_rows(c: &BladeCoordinates) -> Result<(Vec<Vec<Point3<f64>>>, bool)> {
         rows.push(row);
     }
     if let Some(l) = rows.iter().position(|r| r.len() != rows[0].len()) {
-        return Err(Error::table("sections", Some(l), format!("{} points, section 0 has {}", rows[l].len(), rows[0].len())));
+        return Err(Error::table(
+            "sections",
+            Some(l),
+            format!("{} points, section 0 has {}", rows[l].len(), rows[0].len()),
+        ));
     }
     if c.up.iter().any(|s| s.len() != c.up[0].len()) {
         return Err(Error::table("sections", None, "all sections need the same number of upper points"));
@@ -359,7 +364,8 @@ impl BladeSolid {
     pub fn seams(&self, tol: f64, samples: usize) -> cadmorph_seam::SeamReport {
         let faces = self.faces();
         let edges = cadmorph_seam::shared_boundaries(&faces, tol, 32, 0.9);
-        let fs: Vec<cadmorph_seam::Face> = faces.iter().map(|s| cadmorph_seam::Face { surface: s, reversed: false }).collect();
+        let fs: Vec<cadmorph_seam::Face> =
+            faces.iter().map(|s| cadmorph_seam::Face { surface: s, reversed: false }).collect();
         cadmorph_seam::SeamReport::new(edges.iter().map(|e| cadmorph_seam::measure_boundary(&fs, e, samples)).collect())
     }
 

@@ -32,7 +32,7 @@ impl InterpolatingSpline {
         if x.windows(2).any(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater)) {
             return Err(Error::Geometry("splrep: x must increase strictly".into()));
         }
-        let h = (k + 1) / 2;
+        let h = k.div_ceil(2);
         let mut t = vec![x[0]; k + 1];
         t.extend_from_slice(&x[h..m - h]);
         t.extend(std::iter::repeat_n(x[m - 1], k + 1));

@@ -194,8 +194,13 @@ impl DesignTable {
     pub fn read(path: &Path) -> Result<Self> {
         let text =
             std::fs::read_to_string(path).map_err(|e| Error::Io { path: path.display().to_string(), source: e })?;
-        Self::parse(&text, path.parent().unwrap_or(Path::new(".")))
-            .map_err(|e| if let Error::Toml(m) = e { Error::Toml(format!("{}: {m}", path.display())) } else { e })
+        Self::parse(&text, path.parent().unwrap_or(Path::new("."))).map_err(|e| {
+            if let Error::Toml(m) = e {
+                Error::Toml(format!("{}: {m}", path.display()))
+            } else {
+                e
+            }
+        })
     }
 
     /// The TOML text of the table.
@@ -255,7 +260,11 @@ impl DesignTable {
             }
             if let Some(h) = p.hub_radius {
                 if !(h > 0.0 && h <= b.radii[0]) {
-                    return Err(Error::table("propeller.hub_radius", None, format!("{h} must be in (0, root radius {}]", b.radii[0])));
+                    return Err(Error::table(
+                        "propeller.hub_radius",
+                        None,
+                        format!("{h} must be in (0, root radius {}]", b.radii[0]),
+                    ));
                 }
             }
         }
@@ -289,7 +298,13 @@ impl DesignTable {
                 LawParam::Skew => &mut self.skew,
                 LawParam::Camber => match &mut self.camber {
                     Some(c) => c,
-                    None => return Err(Error::table("camber", None, "the parameter file deforms camber; the table has none")),
+                    None => {
+                        return Err(Error::table(
+                            "camber",
+                            None,
+                            "the parameter file deforms camber; the table has none",
+                        ))
+                    }
                 },
             };
             let mut law = RadialLaw::fit(p, &radii, values, s.degree, s.nbasis, rbf_points)?;

@@ -107,7 +107,15 @@ fn seams_are_closed() {
     // `shared_boundaries`, left to the seam crate; the projection test above shows the
     // edge on the cap to 1e-12). Every pair it matches over the whole edge is checked.
     let full = |e: &cadmorph_seam::EdgeReport| {
-        let c = if e.a.patch == 0 { &s.upper } else if e.a.patch == 1 { &s.lower } else if e.a.patch == 2 { &s.tip } else { &s.root };
+        let c = if e.a.patch == 0 {
+            &s.upper
+        } else if e.a.patch == 1 {
+            &s.lower
+        } else if e.a.patch == 2 {
+            &s.tip
+        } else {
+            &s.root
+        };
         let b = c.boundary(e.a.side.expect("iso-boundary edge"));
         let d = b.domain();
         let len: f64 = (0..200)

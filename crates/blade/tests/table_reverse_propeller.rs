@@ -39,12 +39,17 @@ fn bad_tables_name_field_and_section() {
     assert!(e.to_string().contains("24512"), "{e}");
     let e = bad(|t| t.replace("naca = \"0012\"", "naca = \"16-123\""));
     assert!(e.to_string().contains("16-123"), "{e}");
-    let e = bad(|t| t.replace("[profile]\nnaca = \"0012\"", "[[profiles]]\nnaca = \"0012\"\n[[profiles]]\nnaca = \"2412\""));
+    let e = bad(|t| {
+        t.replace("[profile]\nnaca = \"0012\"", "[[profiles]]\nnaca = \"0012\"\n[[profiles]]\nnaca = \"2412\"")
+    });
     assert!(matches!(&e, Error::Table { field, .. } if field == "profiles"), "{e}");
     let e = bad(|t| format!("{t}\nbogus = 1\n"));
     assert!(matches!(e, Error::Toml(_)), "{e}");
     // Every message is readable.
-    for e in [bad(|t| t.replace("radii = [1.0, 2.0, 3.0", "radii = [1.0, 0.5, 3.0")), bad(|t| t.replace("pitch = [1.0,", "pitch = [nan,"))] {
+    for e in [
+        bad(|t| t.replace("radii = [1.0, 2.0, 3.0", "radii = [1.0, 0.5, 3.0")),
+        bad(|t| t.replace("pitch = [1.0,", "pitch = [nan,")),
+    ] {
         assert!(e.to_string().starts_with("design table") || e.to_string().starts_with("TOML"), "{e}");
     }
 }
@@ -87,7 +92,11 @@ fn ppg_and_errors_report_layout() {
     let lines: Vec<&str> = ppg.lines().collect();
     assert_eq!(lines[1], "propeller diameter = 20.0");
     // r/R of the first section: 1 / (D/2) = 0.1.
-    assert!(lines[10].starts_with(" 1.00000000e-01 1.00000000e-01 1.00000000e+00 5.00000000e-03 5.00000000e-02"), "{}", lines[10]);
+    assert!(
+        lines[10].starts_with(" 1.00000000e-01 1.00000000e-01 1.00000000e+00 5.00000000e-03 5.00000000e-02"),
+        "{}",
+        lines[10]
+    );
     assert_eq!(lines.last().copied(), Some("7.90000000e-01 0.00000000e+00"));
     let c = b.apply_transformations(true).unwrap();
     let s = BladeSolid::from_coordinates(&c, 3, 3).unwrap();
