@@ -35,6 +35,7 @@ mod convert;
 
 use std::path::Path;
 
+pub use cadmorph_blade as blade;
 pub use cadmorph_brep as brep;
 pub use cadmorph_iges as iges;
 pub use cadmorph_model as model;

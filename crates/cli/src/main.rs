@@ -7,6 +7,7 @@
 
 #[macro_use]
 mod output;
+mod blade;
 mod convert;
 mod eval;
 mod grid;
@@ -38,6 +39,11 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Blades and propellers from design tables (BladeX-compatible).
+    Blade {
+        #[command(subcommand)]
+        command: blade::BladeCommand,
+    },
     /// Units, entity counts and faces of an IGES or STEP file.
     Info(info::Args),
     /// Points and normals of every face on an n × n parameter grid.
@@ -77,6 +83,7 @@ fn main() -> ExitCode {
     // removes the temporary file, instead of killing the process with SIGXFSZ.
     let _ = signal_hook::flag::register(signal_hook::consts::SIGXFSZ, std::sync::Arc::default());
     let result = match cli.command {
+        Command::Blade { command } => blade::run(command),
         Command::Info(a) => info::run(a),
         Command::Sample(a) => sample::run(a),
         Command::Seams(a) => seams::run(a),

@@ -281,3 +281,5 @@ impl DocumentBuilder {
         Document::parse(text.as_bytes())
     }
 }
+
+mod solid;

@@ -1,0 +1,1 @@
+"""The two helpers of pythonocc's `OCC.Extend` that BladeX imports."""
