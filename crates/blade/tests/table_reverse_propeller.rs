@@ -83,7 +83,12 @@ fn reverse_through_a_step_file() {
     let faces = doc.world_surfaces().unwrap();
     let got = reverse(&faces[0].surface, &faces[1].surface, &b.radii, true, 5).unwrap();
     for (i, g) in got.iter().enumerate() {
-        for (name, a, w) in [("chord", g.chord, b.chord[i]), ("pitch", g.pitch, b.pitch[i]), ("rake", g.rake, b.rake[i]), ("skew", g.skew, b.skew[i])] {
+        for (name, a, w) in [
+            ("chord", g.chord, b.chord[i]),
+            ("pitch", g.pitch, b.pitch[i]),
+            ("rake", g.rake, b.rake[i]),
+            ("skew", g.skew, b.skew[i]),
+        ] {
             assert!((a - w).abs() <= REVERSE_MATCH * w.abs(), "{name} {i}: {a} vs {w}");
         }
     }
