@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """blade_check.py - OpenCASCADE's view of a solid written by cadmorph-blade.
 
-Usage: blade_check.py FILE [FILE ...]
+Usage: blade_check.py [--no-volume] FILE [FILE ...]
 
 Prints one JSON object per file (a list): read status, number of solids, shells and
 faces, BRepCheck_Analyzer validity, free edges (non-degenerate edges bounding only one face), and
@@ -40,7 +40,7 @@ def count(shape, kind):
     return n
 
 
-def check(path):
+def check(path, volume=True):
     is_step = path.lower().endswith((".stp", ".step"))
     reader = STEPControl_Reader() if is_step else IGESControl_Reader()
     if not is_step:
@@ -72,6 +72,8 @@ def check(path):
             free += 1
     out["edges"] = emap.Extent()
     out["free_edges"] = free
+    if not volume:
+        return out
     t0 = time.time()
     props = GProp_GProps()
     BRepGProp.VolumeProperties_s(shape, props, EPS)
@@ -84,4 +86,6 @@ def check(path):
 
 
 if __name__ == "__main__":
-    print(json.dumps([check(p) for p in sys.argv[1:]]))
+    args = sys.argv[1:]
+    vol = "--no-volume" not in args
+    print(json.dumps([check(p, vol) for p in args if p != "--no-volume"]))

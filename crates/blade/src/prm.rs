@@ -356,6 +356,67 @@ impl ParamFile {
         s
     }
 
+    /// The TOML form of the same content: `radii`, `parameters` (five arrays in the
+    /// order chord, pitch, rake, skew, camber) and `settings` (five tables with `degree`,
+    /// `npoints`, `nbasis`, `deformations`).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Toml`] (not expected).
+    pub fn to_toml(&self) -> Result<String> {
+        toml::to_string(self).map_err(|e| Error::Toml(e.to_string()))
+    }
+
+    /// Reads the TOML form (see [`to_toml`](Self::to_toml)), with the checks of
+    /// [`parse`](Self::parse): equal lengths, one deformation per control point.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Toml`] with TOML's line and column; [`Error::Prm`] (line 0) for
+    /// inconsistent arrays.
+    pub fn from_toml(text: &str, file: &str) -> Result<Self> {
+        let p: ParamFile = toml::from_str(text).map_err(|e| Error::Toml(format!("{file}: {e}")))?;
+        for q in LawParam::ALL {
+            let n = p.parameters[q.index()].len();
+            if n != p.radii.len() {
+                return Err(Error::Prm {
+                    file: file.into(),
+                    line: 0,
+                    reason: format!("{} radii but {n} values of {}", p.radii.len(), q.name()),
+                });
+            }
+            let s = &p.settings[q.index()];
+            if s.deformations.len() != s.nbasis {
+                return Err(Error::Prm {
+                    file: file.into(),
+                    line: 0,
+                    reason: format!(
+                        "{}: {} control points but {} deformations",
+                        q.name(),
+                        s.nbasis,
+                        s.deformations.len()
+                    ),
+                });
+            }
+        }
+        Ok(p)
+    }
+
+    /// Reads a `.prm` file, or its TOML form when the name ends in `.toml`.
+    ///
+    /// # Errors
+    ///
+    /// As [`read`](Self::read) and [`from_toml`](Self::from_toml).
+    pub fn read_any(path: &std::path::Path) -> Result<Self> {
+        if path.extension().is_some_and(|e| e == "toml") {
+            let text =
+                std::fs::read_to_string(path).map_err(|e| Error::Io { path: path.display().to_string(), source: e })?;
+            Self::from_toml(&text, &path.display().to_string())
+        } else {
+            Self::read(path)
+        }
+    }
+
     /// Writes the file through a temporary file renamed into place.
     ///
     /// # Errors

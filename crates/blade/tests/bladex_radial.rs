@@ -142,3 +142,13 @@ fn corrupt_files_are_refused_with_their_line() {
         }
     }
 }
+
+#[test]
+fn toml_form_round_trips() {
+    let p = prm();
+    let t = p.to_toml().unwrap();
+    assert_eq!(ParamFile::from_toml(&t, "p.toml").unwrap(), p);
+    let bad = t.replacen("deformations = [1.0, 2.0, 3.0, 4.0, 5.0]", "deformations = [1.0]", 1);
+    assert_ne!(bad, t);
+    assert!(matches!(ParamFile::from_toml(&bad, "p.toml"), Err(Error::Prm { .. })));
+}

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::process::Command;
 
 use cadmorph_blade::export::{iges_solids, step_solids, LengthUnit};
-use cadmorph_blade::{naca, Blade, BladeSolid, NacaOptions, NacaSpacing};
+use cadmorph_blade::{naca, Blade, BladeSolid, NacaOptions, NacaSpacing, Propeller};
 
 /// The claim: OCCT's volume equals cadmorph's to 1e-6 relative.
 const VOLUME_MATCH: f64 = 1e-6;
@@ -16,9 +16,13 @@ fn root() -> PathBuf {
 }
 
 fn occt(files: &[PathBuf]) -> serde_json::Value {
+    occt_args(&[], files)
+}
+
+fn occt_args(flags: &[&str], files: &[PathBuf]) -> serde_json::Value {
     let py = root().join("tests/occt/.venv/bin/python");
     assert!(py.exists(), "the OCCT venv is missing: run `bash tests/occt/setup.sh` (or `bash scripts/test`)");
-    let out = Command::new(py).arg(root().join("tests/occt/blade_check.py")).args(files).output().unwrap();
+    let out = Command::new(py).arg(root().join("tests/occt/blade_check.py")).args(flags).args(files).output().unwrap();
     // OCCT's IGES reader prints progress to stdout; the report is the last line.
     let text = String::from_utf8_lossy(&out.stdout);
     let last = text.lines().rev().find(|l| l.starts_with('[')).unwrap_or("");
@@ -68,6 +72,28 @@ fn occt_accepts_blade_solids() {
         assert_eq!(r["free_edges"], 0, "{f}: {r}");
         let occ = r["volume"].as_f64().unwrap();
         assert!(((occ - v) / v).abs() <= VOLUME_MATCH, "{f}: OCCT volume {occ} vs cadmorph {v}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+#[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
+fn occt_accepts_a_propeller() {
+    // Four blades and the cylinder hub in one file: five valid closed solids.
+    let dir = std::env::temp_dir().join(format!("cadmorph-prop-occt-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let s = BladeSolid::from_coordinates(&blade("0012", true).apply_transformations(true).unwrap(), 3, 3).unwrap();
+    let p = Propeller::new(&s, 4, 0.4, -0.8, 0.8).unwrap();
+    let stp = dir.join("propeller.stp");
+    std::fs::write(&stp, step_solids("propeller", &p.solids(), LengthUnit::M, 1e-9).unwrap()).unwrap();
+    let igs = dir.join("propeller.igs");
+    std::fs::write(&igs, iges_solids(&p.solids(), LengthUnit::M, 1e-9, Some("20260101.000000"))).unwrap();
+    let report = occt_args(&["--no-volume"], &[stp, igs]);
+    for r in report.as_array().unwrap() {
+        let f = r["file"].as_str().unwrap();
+        assert_eq!(r["solids"], 5, "{f}: {r}");
+        assert_eq!(r["valid"], true, "{f}: {r}");
+        assert_eq!(r["free_edges"], 0, "{f}: {r}");
     }
     std::fs::remove_dir_all(&dir).ok();
 }

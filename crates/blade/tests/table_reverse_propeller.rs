@@ -73,15 +73,40 @@ fn reverse_recovers_the_table() {
 }
 
 #[test]
+fn reverse_through_a_step_file() {
+    // Round trip blade -> STEP file -> faces read back -> reverse -> the table.
+    let t = table();
+    let b = t.blade().unwrap();
+    let s = BladeSolid::from_coordinates(&b.apply_transformations(true).unwrap(), 3, 3).unwrap();
+    let bytes = cadmorph_blade::export::step_solids("blade", &[s.faces()], t.unit, 2e-8).unwrap();
+    let doc = cadmorph_step::Document::parse(&bytes).unwrap();
+    let faces = doc.world_surfaces().unwrap();
+    let got = reverse(&faces[0].surface, &faces[1].surface, &b.radii, true, 5).unwrap();
+    for (i, g) in got.iter().enumerate() {
+        for (name, a, w) in [
+            ("chord", g.chord, b.chord[i]),
+            ("pitch", g.pitch, b.pitch[i]),
+            ("rake", g.rake, b.rake[i]),
+            ("skew", g.skew, b.skew[i]),
+        ] {
+            assert!((a - w).abs() <= REVERSE_MATCH * w.abs(), "{name} {i}: {a} vs {w}");
+        }
+    }
+}
+
+#[test]
 fn propeller_hub_volume_and_blade_copies() {
     let b = table().blade().unwrap();
     let s = BladeSolid::from_coordinates(&b.apply_transformations(true).unwrap(), 3, 3).unwrap();
     let p = Propeller::new(&s, 4, 1.0, -3.0, 3.0).unwrap();
     let hub = std::f64::consts::PI * 1.0 * 6.0;
     assert!((p.hub_volume() - hub).abs() <= 1e-9 * hub, "{} vs {hub}", p.hub_volume());
-    for k in &p.blades {
-        assert!((k.volume() - s.volume()).abs() <= 1e-12 * s.volume());
-    }
+    // A rotated copy keeps its volume (one copy checked: each costs a full quadrature).
+    let v = s.volume();
+    assert!((p.blades[1].volume() - v).abs() <= 1e-12 * v);
+    let tip = p.blades[1].upper.control_points()[0];
+    let tip0 = s.upper.control_points()[0];
+    assert!((tip.x - tip0.x).abs() < 1e-12 && (tip.coords.norm() - tip0.coords.norm()).abs() < 1e-12);
     assert_eq!(p.solids().len(), 5);
 }
 

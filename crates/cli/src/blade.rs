@@ -22,7 +22,7 @@ pub enum BladeCommand {
         /// Output `.stp`/`.step` or `.igs`/`.iges` (written through a temporary file).
         #[arg(short, long)]
         output: PathBuf,
-        /// Deform the table's radial laws with a BladeX parameter file first.
+        /// Deform the table's radial laws with a BladeX parameter file (`.prm`, or its `.toml` form) first.
         #[arg(long)]
         prm: Option<PathBuf>,
         /// RBF samples for fitting the radial laws (BladeX default 1000; 0 = none).
@@ -93,7 +93,7 @@ pub enum BladeCommand {
 fn table(path: &Path, prm: Option<&Path>, rbf_points: usize) -> Result<DesignTable> {
     let mut t = DesignTable::read(path).with_context(|| format!("reading {}", path.display()))?;
     if let Some(p) = prm {
-        let f = ParamFile::read(p).with_context(|| format!("reading {}", p.display()))?;
+        let f = ParamFile::read_any(p).with_context(|| format!("reading {}", p.display()))?;
         t.deform(&f, rbf_points).with_context(|| format!("applying {}", p.display()))?;
     }
     Ok(t)
@@ -235,7 +235,7 @@ pub fn run(cmd: BladeCommand) -> Result<()> {
             Ok(())
         }
         BladeCommand::Deform { prm, output, rbf_points, tol } => {
-            let f = ParamFile::read(&prm).with_context(|| format!("reading {}", prm.display()))?;
+            let f = ParamFile::read_any(&prm).with_context(|| format!("reading {}", prm.display()))?;
             let tol: [f64; 5] = tol.try_into().map_err(|_| anyhow::anyhow!("--tol takes five values"))?;
             let d = cadmorph::blade::Deformation::compute_all(f, rbf_points, tol)?;
             d.deformed_param_file().write(&output)?;
