@@ -40,7 +40,10 @@ pub mod atomic;
 pub mod cell;
 mod error;
 pub mod format;
+mod from_cells;
+pub mod morph;
 mod nodelines;
+pub mod quality;
 mod text;
 
 pub use cell::{Cell, CellKind};

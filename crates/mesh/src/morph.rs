@@ -1,0 +1,65 @@
+//! Morphing a mesh's nodes by any [`Deformation`] (paper §3.1.1: the same FFD/RBF/IDW laws
+//! that move CAD control points move mesh nodes), with the quality check before and after
+//! that refuses a morph which would spoil a volume mesh.
+
+use cadmorph_morph::Deformation;
+
+use crate::format::foam::PolyMesh;
+use crate::quality::Quality;
+use crate::{Error, Result};
+
+/// The quality of a volume mesh before and after a morph.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct MorphReport {
+    /// Before.
+    pub before: Quality,
+    /// After.
+    pub after: Quality,
+}
+
+impl MorphReport {
+    /// Whether the morph made the mesh worse in a way `checkMesh` (or its `-allGeometry`
+    /// face-angle check) flags: more failed checks, more inverted cells or pyramids, more
+    /// concave faces.
+    pub fn degraded(&self) -> bool {
+        let (b, a) = (&self.before, &self.after);
+        a.failed.len() > b.failed.len() || a.negative_volumes > b.negative_volumes || a.pyramid_errors > b.pyramid_errors || a.concave_faces > b.concave_faces
+    }
+}
+
+/// Move every point of `mesh` by `deformation` and check the result.
+///
+/// When the morph degrades the mesh ([`MorphReport::degraded`]) and `allow_degrade` is
+/// not set, the points are put back and [`Error::Degraded`] says which checks failed and
+/// where; nothing is changed then. With `allow_degrade` the morphed mesh is kept and the
+/// report says where it is bad.
+///
+/// # Errors
+///
+/// [`Error::Degraded`], or [`Error::NonFinite`] when the deformation produced NaN.
+pub fn morph_checked<D: Deformation + ?Sized>(mesh: &mut PolyMesh, deformation: &D, allow_degrade: bool) -> Result<MorphReport> {
+    let before = Quality::of(mesh);
+    let original = mesh.points.clone();
+    deformation.deform(&mut mesh.points);
+    if let Err(e) = crate::text::check_finite(&mesh.points) {
+        mesh.points = original;
+        return Err(e);
+    }
+    let after = Quality::of(mesh);
+    let report = MorphReport { before, after };
+    if report.degraded() && !allow_degrade {
+        mesh.points = original;
+        let mut summary = report.after.failed.join("; ");
+        if report.after.concave_faces > report.before.concave_faces {
+            if !summary.is_empty() {
+                summary.push_str("; ");
+            }
+            summary.push_str(&format!(
+                "{} concave face(s), worst {:.3}° at face {}",
+                report.after.concave_faces, report.after.max_concave_angle.value, report.after.max_concave_angle.index
+            ));
+        }
+        return Err(Error::Degraded { failed: report.after.failed.len().max(1), summary });
+    }
+    Ok(report)
+}
