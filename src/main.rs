@@ -15,6 +15,8 @@ use cadmorph::refdata::read_faces;
 use cadmorph::seam::SeamRefineOptions;
 use clap::{Args, Parser, Subcommand};
 
+mod cmd_mesh;
+
 /// `println!` that ends the program quietly when standard output has been closed (output
 /// piped into `head`), where the standard macro panics.
 macro_rules! println {
@@ -69,6 +71,9 @@ struct MorphSource {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Surface and volume meshes: morph, check.
+    #[command(subcommand)]
+    Mesh(cmd_mesh::MeshCommand),
     /// Units, entity counts and faces of an IGES or STEP file.
     Info {
         /// An IGES or STEP file.
@@ -460,6 +465,7 @@ fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Eval { file, grid, face, json } => eval(&file, grid as usize, face, json),
+        Command::Mesh(cmd) => cmd_mesh::run(cmd),
     }
 }
 

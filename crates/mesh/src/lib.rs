@@ -39,6 +39,7 @@
 pub mod atomic;
 pub mod cell;
 mod error;
+mod file;
 pub mod format;
 mod from_cells;
 pub mod morph;
@@ -48,3 +49,4 @@ mod text;
 
 pub use cell::{Cell, CellKind};
 pub use error::{Error, Result};
+pub use file::MeshFile;

@@ -63,3 +63,33 @@ pub fn morph_checked<D: Deformation + ?Sized>(mesh: &mut PolyMesh, deformation: 
     }
     Ok(report)
 }
+
+/// Morph any mesh file: every node moves by `deformation`; when the file has volume cells
+/// the quality is checked before and after and a degrading morph is refused (points put
+/// back) unless `allow_degrade`, as [`morph_checked`]. Surface and nodes-only files are
+/// morphed without a check and give `None`.
+///
+/// # Errors
+///
+/// As [`morph_checked`]; [`PolyMesh::from_cells`] errors for inconsistent cells.
+pub fn morph_file<D: Deformation + ?Sized>(file: &mut crate::MeshFile, deformation: &D, allow_degrade: bool) -> Result<Option<MorphReport>> {
+    if let crate::MeshFile::Foam(m) = file {
+        return morph_checked(m, deformation, allow_degrade).map(Some);
+    }
+    match file.volume_mesh()? {
+        Some(mut poly) => {
+            let report = morph_checked(&mut poly, deformation, allow_degrade)?;
+            file.points_mut().copy_from_slice(&poly.points);
+            Ok(Some(report))
+        }
+        None => {
+            let original = file.points().to_vec();
+            deformation.deform(file.points_mut());
+            if let Err(e) = crate::text::check_finite(file.points()) {
+                file.points_mut().copy_from_slice(&original);
+                return Err(e);
+            }
+            Ok(None)
+        }
+    }
+}

@@ -189,6 +189,15 @@ pub struct Quality {
     pub failed: Vec<String>,
 }
 
+/// Shortest round-trip digits, in scientific notation for very small or large magnitudes.
+fn num(v: f64) -> String {
+    if v != 0.0 && (v.abs() < 1e-4 || v.abs() >= 1e7) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
 fn max_by(values: impl Iterator<Item = f64>) -> Worst {
     let mut w = Worst { index: 0, value: f64::NEG_INFINITY };
     for (i, v) in values.enumerate() {
@@ -537,24 +546,24 @@ impl Quality {
             ("cells".into(), self.cells.to_string()),
             ("boundary openness".into(), format!("({:e} {:e} {:e})", self.boundary_openness[0], self.boundary_openness[1], self.boundary_openness[2])),
             ("max cell openness".into(), format!("{:e} (cell {})", self.max_cell_openness.value, self.max_cell_openness.index)),
-            ("max aspect ratio".into(), format!("{} (cell {})", self.max_aspect_ratio.value, self.max_aspect_ratio.index)),
+            ("max aspect ratio".into(), format!("{} (cell {})", num(self.max_aspect_ratio.value), self.max_aspect_ratio.index)),
             ("min face area".into(), format!("{:e} (face {})", self.min_face_area.value, self.min_face_area.index)),
             ("max face area".into(), format!("{:e} (face {})", self.max_face_area.value, self.max_face_area.index)),
             ("min volume".into(), format!("{:e} (cell {})", self.min_volume.value, self.min_volume.index)),
             ("max volume".into(), format!("{:e} (cell {})", self.max_volume.value, self.max_volume.index)),
             ("total volume".into(), format!("{:e}", self.total_volume)),
             ("negative volumes".into(), self.negative_volumes.to_string()),
-            ("max non-orthogonality".into(), format!("{} deg (face {})", self.max_non_orthogonality.value, self.max_non_orthogonality.index)),
-            ("average non-orthogonality".into(), format!("{} deg", self.average_non_orthogonality)),
+            ("max non-orthogonality".into(), format!("{} deg (face {})", num(self.max_non_orthogonality.value), self.max_non_orthogonality.index)),
+            ("average non-orthogonality".into(), format!("{} deg", num(self.average_non_orthogonality))),
             ("faces > 70 deg".into(), self.severely_non_orthogonal.to_string()),
             ("faces > 90 deg".into(), self.non_orthogonality_errors.to_string()),
             ("face pyramid errors".into(), self.pyramid_errors.to_string()),
-            ("max skewness".into(), format!("{} (face {})", self.max_skewness.value, self.max_skewness.index)),
+            ("max skewness".into(), format!("{} (face {})", num(self.max_skewness.value), self.max_skewness.index)),
             ("faces skewness > 4".into(), self.highly_skew_faces.to_string()),
-            ("max concave angle".into(), format!("{} deg (face {})", self.max_concave_angle.value, self.max_concave_angle.index)),
+            ("max concave angle".into(), format!("{} deg (face {})", num(self.max_concave_angle.value), self.max_concave_angle.index)),
             ("concave faces > 10 deg".into(), self.concave_faces.to_string()),
-            ("min flatness".into(), format!("{} (face {})", self.min_flatness.value, self.min_flatness.index)),
-            ("average flatness".into(), format!("{}", self.average_flatness)),
+            ("min flatness".into(), format!("{} (face {})", num(self.min_flatness.value), self.min_flatness.index)),
+            ("average flatness".into(), num(self.average_flatness)),
             ("faces flatness < 0.8".into(), self.warped_faces.to_string()),
         ];
         rows.push(("verdict".into(), if self.ok() { "Mesh OK.".into() } else { format!("Failed {} mesh checks.", self.failed.len()) }));
