@@ -162,3 +162,60 @@ fn k_comma_like_pygem() {
     assert_points_near(&f.points[..1], &[Point3::new(-0.0500000007, -0.0250000004, -0.0250000004)]);
     k_case("test_square_comma.k", "test_square_comma_out_true.k");
 }
+
+/// The edits of PyGeM's `test_stl_write_comparison` (indices of VTK's merged points).
+fn sphere_edits(p: &mut [Point3<f64>]) {
+    for i in [0, 500, 1000] {
+        set(p, i, [-40.2, -20.5, 60.9]);
+        set(p, i + 1, [-40.2, -10.5, 60.9]);
+        set(p, i + 2, [-40.2, -10.5, 60.9]);
+    }
+}
+
+/// PyGeM compares all lines but the first (the header carries a date).
+fn tail_lines(t: &str) -> Vec<&str> {
+    t.lines().skip(1).collect()
+}
+
+#[test]
+fn stl_like_pygem_from_ascii_and_binary() {
+    use cadmorph_mesh::format::stl::Stl;
+    let expected = text("test_sphere_out_true.stl");
+    for name in ["test_sphere.stl", "test_sphere_bin.stl"] {
+        let input = std::fs::read(data(name)).unwrap();
+        let mut s = Stl::parse(&input).unwrap();
+        assert_eq!(s.write(), input, "{name}: unchanged write");
+        sphere_edits(&mut s.points);
+        let ours = s.write_ascii_vtk();
+        assert_eq!(tail_lines(&ours), tail_lines(&expected), "{name}");
+        // The lossless writer gives the same triangles to the file's precision.
+        let back = Stl::parse(&s.write()).unwrap();
+        let e = Stl::parse(expected.as_bytes()).unwrap();
+        assert_eq!(back.triangles.len(), e.triangles.len());
+        for (t, u) in back.triangles.iter().zip(&e.triangles) {
+            for k in 0..3 {
+                // Expected vertices carry 6 significant digits (%g).
+                assert!((back.points[t[k]] - e.points[u[k]]).norm() <= 1e-4 * 70.0, "{name}");
+            }
+        }
+    }
+}
+
+#[test]
+fn vtk_like_pygem() {
+    use cadmorph_mesh::format::vtk::VtkLegacy;
+    let input = text("test_red_blood_cell.vtk");
+    let mut v = VtkLegacy::parse(&input).unwrap();
+    assert_eq!(v.write(), input);
+    assert_eq!(v.points.len(), 500);
+    assert_eq!(v.cells.len(), 996);
+    square_edits(&mut v.points);
+    let expected = text("test_red_blood_cell_out_true.vtk");
+    // PyGeM's cmp skips comment lines (the version line differs: VTK 4.0 wrote it).
+    let body = |t: &str| t.lines().filter(|l| !l.starts_with('#')).map(str::to_string).collect::<Vec<_>>();
+    assert_eq!(body(&v.write_vtk_style()), body(&expected));
+    let ours = VtkLegacy::parse(&v.write()).unwrap();
+    // Every point PyGeM edited is exact; the rest equal the %g text of both files.
+    assert_points_near(&ours.points, &v.points);
+    assert_points_near(&VtkLegacy::parse(&expected).unwrap().points, &VtkLegacy::parse(&v.write_vtk_style()).unwrap().points);
+}

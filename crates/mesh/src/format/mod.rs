@@ -6,4 +6,6 @@ pub mod dyna;
 pub mod elmer;
 pub mod foam;
 pub mod mdpa;
+pub mod stl;
 pub mod unv;
+pub mod vtk;
