@@ -6,7 +6,7 @@ use std::path::Path;
 use nalgebra::Point3;
 
 use crate::error::io;
-use crate::format::{dyna::KeywordFile, elmer::ElmerNodes, foam::PolyMesh, mdpa::Mdpa, unv::Unv};
+use crate::format::{dyna::KeywordFile, elmer::ElmerNodes, foam::PolyMesh, gmsh::Msh, mdpa::Mdpa, obj::Obj, stl::Stl, unv::Unv, vtk::VtkLegacy};
 use crate::{Cell, Error, Result};
 
 /// A mesh file of any supported format, kept losslessly.
@@ -23,6 +23,14 @@ pub enum MeshFile {
     Mdpa(Mdpa),
     /// Elmer (`.nodes`, or a directory holding `mesh.nodes`).
     Elmer(ElmerNodes),
+    /// STL, ASCII or binary (`.stl`).
+    Stl(Stl),
+    /// Legacy VTK ASCII (`.vtk`).
+    Vtk(VtkLegacy),
+    /// Wavefront OBJ (`.obj`).
+    Obj(Obj),
+    /// Gmsh MSH 2.2 or 4.1 ASCII (`.msh`).
+    Msh(Msh),
 }
 
 fn read_text(path: &Path) -> Result<String> {
@@ -51,6 +59,10 @@ impl MeshFile {
             "k" | "key" | "dyn" => KeywordFile::parse(&read_text(path)?).map(MeshFile::Dyna),
             "mdpa" => Mdpa::parse(&read_text(path)?).map(MeshFile::Mdpa),
             "nodes" => ElmerNodes::parse(&read_text(path)?).map(MeshFile::Elmer),
+            "stl" => Stl::parse(&std::fs::read(path).map_err(io(path))?).map(MeshFile::Stl),
+            "vtk" => VtkLegacy::parse(&read_text(path)?).map(MeshFile::Vtk),
+            "obj" => Obj::parse(&read_text(path)?).map(MeshFile::Obj),
+            "msh" => Msh::parse(&read_text(path)?).map(MeshFile::Msh),
             _ => return Err(Error::Unsupported(format!("{}: unknown mesh extension {ext:?}", path.display()))),
         };
         r.map_err(|e| e.in_file(path))
@@ -64,6 +76,10 @@ impl MeshFile {
             MeshFile::Dyna(m) => &m.points,
             MeshFile::Mdpa(m) => &m.points,
             MeshFile::Elmer(m) => &m.points,
+            MeshFile::Stl(m) => &m.points,
+            MeshFile::Vtk(m) => &m.points,
+            MeshFile::Obj(m) => &m.points,
+            MeshFile::Msh(m) => &m.points,
         }
     }
 
@@ -75,6 +91,10 @@ impl MeshFile {
             MeshFile::Dyna(m) => &mut m.points,
             MeshFile::Mdpa(m) => &mut m.points,
             MeshFile::Elmer(m) => &mut m.points,
+            MeshFile::Stl(m) => &mut m.points,
+            MeshFile::Vtk(m) => &mut m.points,
+            MeshFile::Obj(m) => &mut m.points,
+            MeshFile::Msh(m) => &mut m.points,
         }
     }
 
@@ -86,6 +106,10 @@ impl MeshFile {
             MeshFile::Unv(m) => m.cells.clone(),
             MeshFile::Dyna(m) => m.cells.clone(),
             MeshFile::Mdpa(m) => m.cells.iter().map(|c| c.1.clone()).collect(),
+            MeshFile::Stl(m) => m.triangles.iter().map(|t| Cell::new(crate::CellKind::Triangle, t.to_vec())).collect(),
+            MeshFile::Vtk(m) => m.cells.clone(),
+            MeshFile::Obj(m) => m.cells.clone(),
+            MeshFile::Msh(m) => m.cells.iter().map(|c| c.1.clone()).collect(),
         }
     }
 
@@ -123,6 +147,10 @@ impl MeshFile {
             MeshFile::Dyna(m) => m.write(),
             MeshFile::Mdpa(m) => m.write(),
             MeshFile::Elmer(m) => m.write(),
+            MeshFile::Stl(m) => return crate::atomic::write_atomic(path, &m.write()),
+            MeshFile::Vtk(m) => m.write(),
+            MeshFile::Obj(m) => m.write(),
+            MeshFile::Msh(m) => m.write(),
         };
         let path = if path.is_dir() { path.join("mesh.nodes") } else { path.to_path_buf() };
         crate::atomic::write_atomic(&path, text.as_bytes())

@@ -26,17 +26,6 @@ pub(crate) fn trim_eol(line: &str) -> &str {
     line.strip_suffix('\n').map(|l| l.strip_suffix('\r').unwrap_or(l)).unwrap_or(line)
 }
 
-/// The terminator of `line` (`"\r\n"`, `"\n"` or `""`).
-pub(crate) fn eol(line: &str) -> &str {
-    if line.ends_with("\r\n") {
-        "\r\n"
-    } else if line.ends_with('\n') {
-        "\n"
-    } else {
-        ""
-    }
-}
-
 /// Parse a float, accepting Fortran `D` exponents (`1.0D+00`); the error names `line`.
 pub(crate) fn parse_f64(tok: &str, line: usize) -> Result<f64> {
     let t = tok.trim();

@@ -17,8 +17,8 @@ pub struct Mdpa {
     /// Node ids, in file order.
     pub ids: Vec<i64>,
     /// Elements and conditions whose node count gives a linear kind (2 line, 3 triangle,
-    /// 4 tetrahedron for `*3D4N` names else quadrilateral, 8 hexahedron, 6 wedge), with
-    /// their block name.
+    /// 4 tetrahedron for names with `Tetra` or `3D4` but not `Shell`, `Quad`, `Surface`
+    /// or `Membrane`, else quadrilateral; 6 wedge, 8 hexahedron), with their block name.
     pub cells: Vec<(String, Cell)>,
     lines: NodeLines,
 }
@@ -111,7 +111,7 @@ impl Mdpa {
             let kind = match nodes.len() {
                 2 => CellKind::Line,
                 3 => CellKind::Triangle,
-                4 if name.contains("3D4N") => CellKind::Tetra,
+                4 if (name.contains("Tetra") || name.contains("3D4")) && !["Shell", "Quad", "Surface", "Membrane"].iter().any(|w| name.contains(w)) => CellKind::Tetra,
                 4 => CellKind::Quad,
                 6 => CellKind::Wedge,
                 8 => CellKind::Hexahedron,

@@ -5,7 +5,9 @@
 pub mod dyna;
 pub mod elmer;
 pub mod foam;
+pub mod gmsh;
 pub mod mdpa;
+pub mod obj;
 pub mod stl;
 pub mod unv;
 pub mod vtk;
