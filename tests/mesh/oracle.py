@@ -21,6 +21,7 @@ def make(out):
     gmsh.model.occ.cut([(3, box)], [(3, ball)])
     gmsh.model.occ.synchronize()
     gmsh.option.setNumber("Mesh.MeshSizeMax", 0.2)
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 16)
     gmsh.model.mesh.generate(3)
     for version, name in [(2.2, "box22.msh"), (4.1, "box41.msh")]:
         gmsh.option.setNumber("Mesh.MshFileVersion", version)

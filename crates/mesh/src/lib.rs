@@ -46,6 +46,7 @@ pub mod morph;
 mod nodelines;
 pub mod quality;
 mod text;
+pub mod volume;
 
 pub use cell::{Cell, CellKind};
 pub use error::{Error, Result};

@@ -38,13 +38,23 @@ impl MorphReport {
 ///
 /// [`Error::Degraded`], or [`Error::NonFinite`] when the deformation produced NaN.
 pub fn morph_checked<D: Deformation + ?Sized>(mesh: &mut PolyMesh, deformation: &D, allow_degrade: bool) -> Result<MorphReport> {
-    let before = Quality::of(mesh);
-    let original = mesh.points.clone();
-    deformation.deform(&mut mesh.points);
-    if let Err(e) = crate::text::check_finite(&mesh.points) {
-        mesh.points = original;
-        return Err(e);
+    let moved = deformation.deformed(&mesh.points);
+    move_checked(mesh, moved, allow_degrade)
+}
+
+/// Give `mesh` the points `moved` (one per point) if that does not degrade it, as
+/// [`morph_checked`] does for a deformation.
+///
+/// # Errors
+///
+/// [`Error::CountMismatch`] for a wrong count; [`Error::NonFinite`]; [`Error::Degraded`].
+pub fn move_checked(mesh: &mut PolyMesh, moved: Vec<nalgebra::Point3<f64>>, allow_degrade: bool) -> Result<MorphReport> {
+    if moved.len() != mesh.points.len() {
+        return Err(Error::CountMismatch { what: "moved points".into(), expected: mesh.points.len(), found: moved.len() });
     }
+    crate::text::check_finite(&moved)?;
+    let before = Quality::of(mesh);
+    let original = std::mem::replace(&mut mesh.points, moved);
     let after = Quality::of(mesh);
     let report = MorphReport { before, after };
     if report.degraded() && !allow_degrade {

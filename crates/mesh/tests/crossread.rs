@@ -112,3 +112,49 @@ fn formats_cross_read_with_meshio_and_gmsh() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// gmsh's unstructured tetrahedra around a sphere (the body): the sphere's nodes move by
+/// an FFD that raises a dome on its top, the box stays; the RBF volume morph (Wendland
+/// with greedy centres, and a global thin-plate spline) leaves no inverted cell, and the
+/// body's nodes are where the FFD puts them to 1e-9 × the box size.
+#[test]
+#[ignore = "needs the meshio/gmsh venv (tests/mesh/setup.sh)"]
+fn rbf_volume_morph_of_a_gmsh_tet_mesh() {
+    use cadmorph_mesh::format::foam::PolyMesh;
+    use cadmorph_mesh::volume::{morph_volume, BoundaryMorph, Constraint};
+    use cadmorph_morph::rbf::Kernel;
+    use cadmorph_morph::Ffd;
+    const BODY_MATCH: f64 = 1e-9;
+    let dir = std::env::temp_dir().join(format!("cadmorph-mesh-vol-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    oracle(&["make", dir.to_str().unwrap()]);
+    let file = MeshFile::read(&dir.join("box41.msh")).unwrap();
+    let mesh = file.volume_mesh().unwrap().unwrap();
+    let centre = Point3::new(1.0, 0.5, 0.5);
+    let on_body = |p: &Point3<f64>| ((p - centre).norm() - 0.25).abs() < 1e-6;
+    let on_box = |p: &Point3<f64>| p.iter().zip([2.0, 1.0, 1.0]).any(|(&x, l)| x.abs() < 1e-9 || (x - l).abs() < 1e-9);
+    // A dome: the top middle of a 3×3×3 lattice over the sphere raised by 0.4 box heights.
+    let mut ffd = Ffd::try_new([3, 3, 3], Point3::new(0.7, 0.2, 0.2), Vector3::new(0.6, 0.6, 0.6), Vector3::zeros()).unwrap();
+    ffd.mu_mut().set(1, 1, 2, [0.0, 0.0, 0.4]);
+    let body: Vec<usize> = (0..mesh.points.len()).filter(|&i| on_body(&mesh.points[i])).collect();
+    assert!(body.len() > 50);
+    let cons: Vec<Constraint> = mesh
+        .points
+        .iter()
+        .map(|p| if on_body(p) { Constraint::Moved(ffd.deform_point(p) - p) } else if on_box(p) { Constraint::Fixed } else { Constraint::Free })
+        .collect();
+    for options in [BoundaryMorph::wendland(1.0), BoundaryMorph { kernel: Kernel::ThinPlate { radius: 1.0, k: 2 }, greedy_tol: None, initial_centres: 0, max_centres: usize::MAX }] {
+        let mut m: PolyMesh = mesh.clone();
+        let (report, br) = morph_volume(&mut m, &cons, &options, false).unwrap_or_else(|e| panic!("{:?}: {e}", options.kernel));
+        eprintln!("{:?}: {} constrained, {} centres, {} rounds, min volume {:e}", options.kernel, br.constrained, br.centres, br.rounds, report.after.min_volume.value);
+        assert_eq!(report.after.negative_volumes, 0);
+        assert_eq!(report.after.pyramid_errors, 0);
+        let lift = body.iter().map(|&i| m.points[i].z - mesh.points[i].z).fold(0.0, f64::max);
+        assert!(lift > 0.05, "the dome rises ({lift})");
+        for &i in &body {
+            assert!((m.points[i] - ffd.deform_point(&mesh.points[i])).norm() <= BODY_MATCH * 2.0);
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -238,3 +238,36 @@ fn binary_and_compressed_polymesh() {
     }
     let _ = std::fs::remove_dir_all(base);
 }
+
+/// Boundary → interior: only the bump patch moves (the FFD applied to its nodes), the top,
+/// inlet and outlet are fixed, the side planes slide; the Wendland RBF with greedy
+/// centres carries the motion inside. checkMesh on the written mesh agrees with cadmorph.
+#[test]
+#[ignore = "needs OpenFOAM (tests/mesh/setup.sh)"]
+fn rbf_volume_morph_of_the_bump_passes_checkmesh() {
+    use cadmorph_mesh::volume::{morph_volume, patch_constraints, BoundaryMorph, Constraint, PatchMotion};
+    use cadmorph_morph::Deformation;
+    let case = temp("volume");
+    make_case(&case);
+    let mut mesh = PolyMesh::read(&case).unwrap();
+    let original = mesh.points.clone();
+    let ffd = lift_ffd(0.15);
+    let cons = patch_constraints(&mesh, &[("bump", PatchMotion::Follow(&ffd)), ("top", PatchMotion::Fixed), ("sides", PatchMotion::Slip)]).unwrap();
+    let (report, br) = morph_volume(&mut mesh, &cons, &BoundaryMorph::wendland(1.5), false).unwrap();
+    eprintln!("volume morph: {} constrained nodes, {} centres, {} rounds, max miss {:e}", br.constrained, br.centres, br.rounds, br.max_relative_error);
+    assert!(br.centres < br.constrained, "greedy selection uses a subset");
+    assert!(report.after.ok(), "{}", report.after.table());
+    for (i, c) in cons.iter().enumerate() {
+        match c {
+            Constraint::Moved(_) => assert!((mesh.points[i] - ffd.deform_point(&original[i])).norm() < 1e-12),
+            Constraint::Fixed => assert_eq!(mesh.points[i], original[i]),
+            Constraint::Slip(n) => assert!((mesh.points[i] - original[i]).dot(n).abs() < 1e-12),
+            Constraint::Free => {}
+        }
+    }
+    let interior_moved = cons.iter().enumerate().filter(|(i, c)| **c == Constraint::Free && mesh.points[*i] != original[*i]).count();
+    assert!(interior_moved > 0);
+    mesh.write(&case.join("constant/polyMesh")).unwrap();
+    compare(&case, "after RBF volume morph");
+    let _ = std::fs::remove_dir_all(case);
+}
