@@ -117,8 +117,8 @@ impl Stl {
             return Err(Error::Binary { offset: bytes.len(), what: "a binary STL header of 84 bytes".into() });
         }
         let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
-        if bytes.len() < 84 + 50 * n {
-            return Err(Error::Binary { offset: bytes.len(), what: format!("{n} triangles of 50 bytes after the header ({} bytes), but the file has {}", 84 + 50 * n, bytes.len()) });
+        if bytes.len() != 84 + 50 * n {
+            return Err(Error::Binary { offset: bytes.len().min(84 + 50 * n), what: format!("{n} triangles of 50 bytes after the header ({} bytes), but the file has {}", 84 + 50 * n, bytes.len()) });
         }
         let mut m = Merge { map: HashMap::new(), points: Vec::new() };
         let mut triangles = Vec::with_capacity(n);
