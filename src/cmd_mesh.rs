@@ -62,7 +62,8 @@ pub struct MorphArgs {
 fn law(path: &Path, expect: &str) -> Result<Box<dyn Deformation + Send>> {
     let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
     let is_toml = path.extension().is_some_and(|e| e == "toml");
-    let params = if is_toml { Parameters::from_toml(&text) } else { Parameters::from_prm(&text) }.with_context(|| format!("reading {}", path.display()))?;
+    let params = if is_toml { Parameters::from_toml(&text) } else { Parameters::from_prm(&text) }
+        .with_context(|| format!("reading {}", path.display()))?;
     let kind = match params {
         Parameters::Ffd(_) => "ffd",
         Parameters::Rbf(_) => "rbf",
@@ -102,7 +103,8 @@ pub fn run(cmd: MeshCommand) -> Result<()> {
             };
             let d = law(path, kind)?;
             let mut file = MeshFile::read(&a.input).with_context(|| format!("reading {}", a.input.display()))?;
-            let report = morph_file(&mut file, d.as_ref(), a.allow_degrade).with_context(|| format!("morphing {}", a.input.display()))?;
+            let report = morph_file(&mut file, d.as_ref(), a.allow_degrade)
+                .with_context(|| format!("morphing {}", a.input.display()))?;
             file.write(&a.output).with_context(|| format!("writing {}", a.output.display()))?;
             match (&report, a.json) {
                 (Some(r), true) => println!("{}", serde_json::to_string_pretty(r)?),
@@ -112,7 +114,12 @@ pub fn run(cmd: MeshCommand) -> Result<()> {
                         eprintln!("warning: the morph degraded the mesh (written because of --allow-degrade)");
                     }
                 }
-                (None, _) => println!("{} -> {}: {} nodes moved (no volume cells to check)", a.input.display(), a.output.display(), file.points().len()),
+                (None, _) => println!(
+                    "{} -> {}: {} nodes moved (no volume cells to check)",
+                    a.input.display(),
+                    a.output.display(),
+                    file.points().len()
+                ),
             }
             Ok(())
         }

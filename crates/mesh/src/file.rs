@@ -6,12 +6,16 @@ use std::path::Path;
 use nalgebra::Point3;
 
 use crate::error::io;
-use crate::format::{dyna::KeywordFile, elmer::ElmerNodes, foam::PolyMesh, gmsh::Msh, mdpa::Mdpa, obj::Obj, stl::Stl, unv::Unv, vtk::VtkLegacy};
+use crate::format::{
+    dyna::KeywordFile, elmer::ElmerNodes, foam::PolyMesh, gmsh::Msh, mdpa::Mdpa, obj::Obj, stl::Stl, unv::Unv,
+    vtk::VtkLegacy,
+};
 use crate::{Cell, Error, Result};
 
 /// A mesh file of any supported format, kept losslessly.
 #[derive(Debug, Clone)]
 #[non_exhaustive]
+#[allow(clippy::large_enum_variant)] // one per program run; boxing would only add an indirection
 pub enum MeshFile {
     /// OpenFOAM `polyMesh` directory.
     Foam(PolyMesh),
@@ -140,7 +144,11 @@ impl MeshFile {
     pub fn write(&self, path: &Path) -> Result<()> {
         let text = match self {
             MeshFile::Foam(m) => {
-                let dir = if path.join("constant").is_dir() || path.join("system").is_dir() { path.join("constant/polyMesh") } else { path.to_path_buf() };
+                let dir = if path.join("constant").is_dir() || path.join("system").is_dir() {
+                    path.join("constant/polyMesh")
+                } else {
+                    path.to_path_buf()
+                };
                 return m.write(&dir);
             }
             MeshFile::Unv(m) => m.write(),

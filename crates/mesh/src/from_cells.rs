@@ -28,10 +28,21 @@ impl PolyMesh {
         let mut map: HashMap<Vec<usize>, (usize, Vec<usize>, Option<usize>)> = HashMap::new();
         for (ci, c) in vol.iter().enumerate() {
             if c.kind.n_nodes() != Some(c.nodes.len()) {
-                return Err(Error::Topology(format!("cell {ci}: a {:?} has {:?} nodes, found {}", c.kind, c.kind.n_nodes(), c.nodes.len())));
+                return Err(Error::Topology(format!(
+                    "cell {ci}: a {:?} has {:?} nodes, found {}",
+                    c.kind,
+                    c.kind.n_nodes(),
+                    c.nodes.len()
+                )));
             }
             if let Some(&n) = c.nodes.iter().find(|&&n| n >= points.len()) {
-                return Err(Error::OutOfRange { what: "cell", index: ci, target_kind: "point", target: n as i64, count: points.len() });
+                return Err(Error::OutOfRange {
+                    what: "cell",
+                    index: ci,
+                    target_kind: "point",
+                    target: n as i64,
+                    count: points.len(),
+                });
             }
             for local in c.kind.faces() {
                 let f: Vec<usize> = local.iter().map(|&k| c.nodes[k]).collect();
@@ -43,7 +54,10 @@ impl PolyMesh {
                     }
                     Some(e) => {
                         if e.2.is_some() {
-                            return Err(Error::Topology(format!("face {key:?} is shared by three or more cells (cells {}, {:?}, {ci})", e.0, e.2)));
+                            return Err(Error::Topology(format!(
+                                "face {key:?} is shared by three or more cells (cells {}, {:?}, {ci})",
+                                e.0, e.2
+                            )));
                         }
                         e.2 = Some(ci);
                     }
@@ -67,7 +81,7 @@ impl PolyMesh {
                 None => boundary.push((c, f)),
             }
         }
-        internal.sort_unstable_by(|a, b| (a.0, a.1).cmp(&(b.0, b.1)));
+        internal.sort_unstable_by_key(|a| (a.0, a.1));
         boundary.sort_unstable();
         let ni = internal.len();
         let nb = boundary.len();

@@ -23,7 +23,10 @@ impl MorphReport {
     /// concave faces.
     pub fn degraded(&self) -> bool {
         let (b, a) = (&self.before, &self.after);
-        a.failed.len() > b.failed.len() || a.negative_volumes > b.negative_volumes || a.pyramid_errors > b.pyramid_errors || a.concave_faces > b.concave_faces
+        a.failed.len() > b.failed.len()
+            || a.negative_volumes > b.negative_volumes
+            || a.pyramid_errors > b.pyramid_errors
+            || a.concave_faces > b.concave_faces
     }
 }
 
@@ -37,7 +40,11 @@ impl MorphReport {
 /// # Errors
 ///
 /// [`Error::Degraded`], or [`Error::NonFinite`] when the deformation produced NaN.
-pub fn morph_checked<D: Deformation + ?Sized>(mesh: &mut PolyMesh, deformation: &D, allow_degrade: bool) -> Result<MorphReport> {
+pub fn morph_checked<D: Deformation + ?Sized>(
+    mesh: &mut PolyMesh,
+    deformation: &D,
+    allow_degrade: bool,
+) -> Result<MorphReport> {
     let moved = deformation.deformed(&mesh.points);
     move_checked(mesh, moved, allow_degrade)
 }
@@ -48,9 +55,17 @@ pub fn morph_checked<D: Deformation + ?Sized>(mesh: &mut PolyMesh, deformation: 
 /// # Errors
 ///
 /// [`Error::CountMismatch`] for a wrong count; [`Error::NonFinite`]; [`Error::Degraded`].
-pub fn move_checked(mesh: &mut PolyMesh, moved: Vec<nalgebra::Point3<f64>>, allow_degrade: bool) -> Result<MorphReport> {
+pub fn move_checked(
+    mesh: &mut PolyMesh,
+    moved: Vec<nalgebra::Point3<f64>>,
+    allow_degrade: bool,
+) -> Result<MorphReport> {
     if moved.len() != mesh.points.len() {
-        return Err(Error::CountMismatch { what: "moved points".into(), expected: mesh.points.len(), found: moved.len() });
+        return Err(Error::CountMismatch {
+            what: "moved points".into(),
+            expected: mesh.points.len(),
+            found: moved.len(),
+        });
     }
     crate::text::check_finite(&moved)?;
     let before = Quality::of(mesh);
@@ -82,7 +97,11 @@ pub fn move_checked(mesh: &mut PolyMesh, moved: Vec<nalgebra::Point3<f64>>, allo
 /// # Errors
 ///
 /// As [`morph_checked`]; [`PolyMesh::from_cells`] errors for inconsistent cells.
-pub fn morph_file<D: Deformation + ?Sized>(file: &mut crate::MeshFile, deformation: &D, allow_degrade: bool) -> Result<Option<MorphReport>> {
+pub fn morph_file<D: Deformation + ?Sized>(
+    file: &mut crate::MeshFile,
+    deformation: &D,
+    allow_degrade: bool,
+) -> Result<Option<MorphReport>> {
     if let crate::MeshFile::Foam(m) = file {
         return morph_checked(m, deformation, allow_degrade).map(Some);
     }

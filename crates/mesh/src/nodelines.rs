@@ -20,7 +20,12 @@ pub(crate) struct NodeLines {
 impl NodeLines {
     /// The text with every node whose point differs (bitwise) from the one read, or every
     /// node when `all` is set, replaced by `format(index, point, original record)`.
-    pub fn write(&self, points: &[Point3<f64>], all: bool, mut format: impl FnMut(usize, &Point3<f64>, &str) -> String) -> String {
+    pub fn write(
+        &self,
+        points: &[Point3<f64>],
+        all: bool,
+        mut format: impl FnMut(usize, &Point3<f64>, &str) -> String,
+    ) -> String {
         let mut out = String::with_capacity(self.text.len() + self.text.len() / 8);
         let mut at = 0;
         for (i, (range, orig)) in self.records.iter().enumerate() {

@@ -83,7 +83,8 @@ impl Geometry {
     /// The geometry of `mesh`.
     pub fn of(mesh: &PolyMesh) -> Geometry {
         let nf = mesh.n_faces();
-        let (face_centres, face_areas): (Vec<_>, Vec<_>) = (0..nf).into_par_iter().map(|i| face_centre_and_area(&mesh.points, mesh.face(i))).unzip();
+        let (face_centres, face_areas): (Vec<_>, Vec<_>) =
+            (0..nf).into_par_iter().map(|i| face_centre_and_area(&mesh.points, mesh.face(i))).unzip();
         let nc = mesh.n_cells();
         let (own, nei) = (mesh.owner(), mesh.neighbour());
         let mut est = vec![Vector3::zeros(); nc];
@@ -113,7 +114,9 @@ impl Geometry {
             ctr[c] += pyr3 * pc;
             vol[c] += pyr3;
         }
-        let cell_centres = (0..nc).map(|c| if vol[c].abs() > VSMALL { Point3::from(ctr[c] / vol[c]) } else { Point3::from(est[c]) }).collect();
+        let cell_centres = (0..nc)
+            .map(|c| if vol[c].abs() > VSMALL { Point3::from(ctr[c] / vol[c]) } else { Point3::from(est[c]) })
+            .collect();
         let cell_volumes = vol.into_iter().map(|v| v / 3.0).collect();
         Geometry { face_centres, face_areas, cell_centres, cell_volumes }
     }
@@ -219,7 +222,14 @@ fn min_by(values: impl Iterator<Item = f64>) -> Worst {
 }
 
 /// OpenFOAM's `faceSkewness` (internal face) and `boundaryFaceSkewness`.
-fn skewness(points: &[Point3<f64>], f: &[usize], fc: &Point3<f64>, fa: &Vector3<f64>, own: &Point3<f64>, nei: Option<&Point3<f64>>) -> f64 {
+fn skewness(
+    points: &[Point3<f64>],
+    f: &[usize],
+    fc: &Point3<f64>,
+    fa: &Vector3<f64>,
+    own: &Point3<f64>,
+    nei: Option<&Point3<f64>>,
+) -> f64 {
     let cpf = fc - own;
     let (d, factor) = match nei {
         Some(n) => (n - own, 0.2),
@@ -338,7 +348,10 @@ impl Quality {
         }
         let openness = sum_closed / (sum_mag + VSMALL);
         if openness.abs().max() > CLOSED_THRESHOLD {
-            failed.push(format!("boundary openness ({:e} {:e} {:e}): possible hole in the boundary", openness.x, openness.y, openness.z));
+            failed.push(format!(
+                "boundary openness ({:e} {:e} {:e}): possible hole in the boundary",
+                openness.x, openness.y, openness.z
+            ));
         }
 
         // checkClosedCells (cellClosedness).
@@ -371,10 +384,16 @@ impl Quality {
         });
         let max_aspect_ratio = max_by(aspect);
         if max_cell_openness.value > CLOSED_THRESHOLD {
-            failed.push(format!("open cells: max cell openness {:e} at cell {}", max_cell_openness.value, max_cell_openness.index));
+            failed.push(format!(
+                "open cells: max cell openness {:e} at cell {}",
+                max_cell_openness.value, max_cell_openness.index
+            ));
         }
         if max_aspect_ratio.value > ASPECT_THRESHOLD {
-            failed.push(format!("high aspect ratio cells: max {:e} at cell {}", max_aspect_ratio.value, max_aspect_ratio.index));
+            failed.push(format!(
+                "high aspect ratio cells: max {:e} at cell {}",
+                max_aspect_ratio.value, max_aspect_ratio.index
+            ));
         }
 
         // checkFaceAreas.
@@ -390,7 +409,10 @@ impl Quality {
         let total_volume: f64 = g.cell_volumes.iter().sum();
         let negative_volumes = g.cell_volumes.iter().filter(|&&v| v < VSMALL).count();
         if negative_volumes > 0 {
-            failed.push(format!("{negative_volumes} zero or negative cell volume(s): minimum {:e} at cell {}", min_volume.value, min_volume.index));
+            failed.push(format!(
+                "{negative_volumes} zero or negative cell volume(s): minimum {:e} at cell {}",
+                min_volume.value, min_volume.index
+            ));
         }
 
         // checkFaceOrthogonality (internal faces).
@@ -414,10 +436,17 @@ impl Quality {
         }
         let min_ortho = min_by(ortho.iter().copied());
         let deg = |c: f64| c.clamp(-1.0, 1.0).acos().to_degrees();
-        let max_non_orthogonality = if ni > 0 { Worst { index: min_ortho.index, value: deg(min_ortho.value) } } else { Worst { index: 0, value: 0.0 } };
+        let max_non_orthogonality = if ni > 0 {
+            Worst { index: min_ortho.index, value: deg(min_ortho.value) }
+        } else {
+            Worst { index: 0, value: 0.0 }
+        };
         let average_non_orthogonality = if ni > 0 { deg(ortho.iter().sum::<f64>() / ni as f64) } else { 0.0 };
         if non_orthogonality_errors > 0 {
-            failed.push(format!("{non_orthogonality_errors} non-orthogonality error(s) (> 90°): max {} at face {}", max_non_orthogonality.value, max_non_orthogonality.index));
+            failed.push(format!(
+                "{non_orthogonality_errors} non-orthogonality error(s) (> 90°): max {} at face {}",
+                max_non_orthogonality.value, max_non_orthogonality.index
+            ));
         }
 
         // checkFacePyramids.
@@ -446,7 +475,10 @@ impl Quality {
             }
         }
         if pyramid_errors > 0 {
-            failed.push(format!("{pyramid_errors} incorrectly oriented face pyramid(s): minimum volume {:e} at face {}", min_pyr.value, min_pyr.index));
+            failed.push(format!(
+                "{pyramid_errors} incorrectly oriented face pyramid(s): minimum volume {:e} at face {}",
+                min_pyr.value, min_pyr.index
+            ));
         }
 
         // checkFaceSkewness (all faces but coupled ones).
@@ -469,7 +501,10 @@ impl Quality {
         let max_skewness = max_by(skew.iter().copied());
         let highly_skew_faces = skew.iter().filter(|&&s| s > SKEW_THRESHOLD).count();
         if highly_skew_faces > 0 {
-            failed.push(format!("max skewness {} at face {}: {highly_skew_faces} highly skew face(s)", max_skewness.value, max_skewness.index));
+            failed.push(format!(
+                "max skewness {} at face {}: {highly_skew_faces} highly skew face(s)",
+                max_skewness.value, max_skewness.index
+            ));
         }
 
         // -allGeometry: face concavity and flatness (reported, not counted as failures,
@@ -479,14 +514,17 @@ impl Quality {
         let limit = MAX_FACE_ANGLE.to_radians().sin();
         let concave_faces = conc.iter().filter(|&&s| s > limit).count();
         let max_concave_angle = Worst { index: max_sin.index, value: max_sin.value.min(1.0).asin().to_degrees() };
-        let flat: Vec<(usize, f64)> = (0..nf).filter_map(|f| flatness(pts, mesh.face(f), &g.face_centres[f], &g.face_areas[f]).map(|v| (f, v))).collect();
+        let flat: Vec<(usize, f64)> = (0..nf)
+            .filter_map(|f| flatness(pts, mesh.face(f), &g.face_centres[f], &g.face_areas[f]).map(|v| (f, v)))
+            .collect();
         let mut min_flatness = Worst { index: 0, value: 1.0 };
         for &(f, v) in &flat {
             if v < min_flatness.value {
                 min_flatness = Worst { index: f, value: v };
             }
         }
-        let average_flatness = if flat.is_empty() { 1.0 } else { flat.iter().map(|x| x.1).sum::<f64>() / flat.len() as f64 };
+        let average_flatness =
+            if flat.is_empty() { 1.0 } else { flat.iter().map(|x| x.1).sum::<f64>() / flat.len() as f64 };
         let warped_faces = flat.iter().filter(|x| x.1 < WARN_FLATNESS).count();
 
         Quality {
@@ -544,29 +582,50 @@ impl Quality {
             ("faces".into(), self.faces.to_string()),
             ("internal faces".into(), self.internal_faces.to_string()),
             ("cells".into(), self.cells.to_string()),
-            ("boundary openness".into(), format!("({:e} {:e} {:e})", self.boundary_openness[0], self.boundary_openness[1], self.boundary_openness[2])),
-            ("max cell openness".into(), format!("{:e} (cell {})", self.max_cell_openness.value, self.max_cell_openness.index)),
-            ("max aspect ratio".into(), format!("{} (cell {})", num(self.max_aspect_ratio.value), self.max_aspect_ratio.index)),
+            (
+                "boundary openness".into(),
+                format!(
+                    "({:e} {:e} {:e})",
+                    self.boundary_openness[0], self.boundary_openness[1], self.boundary_openness[2]
+                ),
+            ),
+            (
+                "max cell openness".into(),
+                format!("{:e} (cell {})", self.max_cell_openness.value, self.max_cell_openness.index),
+            ),
+            (
+                "max aspect ratio".into(),
+                format!("{} (cell {})", num(self.max_aspect_ratio.value), self.max_aspect_ratio.index),
+            ),
             ("min face area".into(), format!("{:e} (face {})", self.min_face_area.value, self.min_face_area.index)),
             ("max face area".into(), format!("{:e} (face {})", self.max_face_area.value, self.max_face_area.index)),
             ("min volume".into(), format!("{:e} (cell {})", self.min_volume.value, self.min_volume.index)),
             ("max volume".into(), format!("{:e} (cell {})", self.max_volume.value, self.max_volume.index)),
             ("total volume".into(), format!("{:e}", self.total_volume)),
             ("negative volumes".into(), self.negative_volumes.to_string()),
-            ("max non-orthogonality".into(), format!("{} deg (face {})", num(self.max_non_orthogonality.value), self.max_non_orthogonality.index)),
+            (
+                "max non-orthogonality".into(),
+                format!("{} deg (face {})", num(self.max_non_orthogonality.value), self.max_non_orthogonality.index),
+            ),
             ("average non-orthogonality".into(), format!("{} deg", num(self.average_non_orthogonality))),
             ("faces > 70 deg".into(), self.severely_non_orthogonal.to_string()),
             ("faces > 90 deg".into(), self.non_orthogonality_errors.to_string()),
             ("face pyramid errors".into(), self.pyramid_errors.to_string()),
             ("max skewness".into(), format!("{} (face {})", num(self.max_skewness.value), self.max_skewness.index)),
             ("faces skewness > 4".into(), self.highly_skew_faces.to_string()),
-            ("max concave angle".into(), format!("{} deg (face {})", num(self.max_concave_angle.value), self.max_concave_angle.index)),
+            (
+                "max concave angle".into(),
+                format!("{} deg (face {})", num(self.max_concave_angle.value), self.max_concave_angle.index),
+            ),
             ("concave faces > 10 deg".into(), self.concave_faces.to_string()),
             ("min flatness".into(), format!("{} (face {})", num(self.min_flatness.value), self.min_flatness.index)),
             ("average flatness".into(), num(self.average_flatness)),
             ("faces flatness < 0.8".into(), self.warped_faces.to_string()),
         ];
-        rows.push(("verdict".into(), if self.ok() { "Mesh OK.".into() } else { format!("Failed {} mesh checks.", self.failed.len()) }));
+        rows.push((
+            "verdict".into(),
+            if self.ok() { "Mesh OK.".into() } else { format!("Failed {} mesh checks.", self.failed.len()) },
+        ));
         let w = rows.iter().map(|r| r.0.len()).max().unwrap_or(0);
         let mut s = String::new();
         for (k, v) in rows {

@@ -70,7 +70,13 @@ pub(crate) fn c_g(x: f64, prec: usize) -> String {
         return if x.is_sign_negative() { "-0".into() } else { "0".into() };
     }
     if !x.is_finite() {
-        return if x.is_nan() { "nan".into() } else if x > 0.0 { "inf".into() } else { "-inf".into() };
+        return if x.is_nan() {
+            "nan".into()
+        } else if x > 0.0 {
+            "inf".into()
+        } else {
+            "-inf".into()
+        };
     }
     let p = prec.max(1);
     let sci = format!("{:.*e}", p - 1, x);

@@ -66,7 +66,12 @@ impl BoundaryMorph {
     /// Wendland C² with support `support`, greedy selection to 1e-3 of the largest
     /// displacement, starting from 64 centres, at most 20 000.
     pub fn wendland(support: f64) -> BoundaryMorph {
-        BoundaryMorph { kernel: Kernel::WendlandC2 { support }, greedy_tol: Some(1e-3), initial_centres: 64, max_centres: 20_000 }
+        BoundaryMorph {
+            kernel: Kernel::WendlandC2 { support },
+            greedy_tol: Some(1e-3),
+            initial_centres: 64,
+            max_centres: 20_000,
+        }
     }
 }
 
@@ -108,11 +113,20 @@ impl BoundaryMorph {
     /// [`Error::CountMismatch`] when `constraints` is not one per point; RBF build
     /// errors ([`Error::Morph`]: fewer than 4 or coplanar constrained nodes, a singular
     /// system).
-    pub fn solve(&self, points: &[Point3<f64>], constraints: &[Constraint]) -> Result<(Vec<Vector3<f64>>, BoundaryReport)> {
+    pub fn solve(
+        &self,
+        points: &[Point3<f64>],
+        constraints: &[Constraint],
+    ) -> Result<(Vec<Vector3<f64>>, BoundaryReport)> {
         if constraints.len() != points.len() {
-            return Err(Error::CountMismatch { what: "constraints (one per point)".into(), expected: points.len(), found: constraints.len() });
+            return Err(Error::CountMismatch {
+                what: "constraints (one per point)".into(),
+                expected: points.len(),
+                found: constraints.len(),
+            });
         }
-        let cands: Vec<usize> = (0..points.len()).filter(|&i| matches!(constraints[i], Constraint::Fixed | Constraint::Moved(_))).collect();
+        let cands: Vec<usize> =
+            (0..points.len()).filter(|&i| matches!(constraints[i], Constraint::Fixed | Constraint::Moved(_))).collect();
         let target = |i: usize| match constraints[i] {
             Constraint::Moved(d) => d,
             _ => Vector3::zeros(),
@@ -120,9 +134,13 @@ impl BoundaryMorph {
         let dmax = cands.iter().map(|&i| target(i).norm()).fold(0.0, f64::max);
         let mut out = vec![Vector3::zeros(); points.len()];
         if dmax == 0.0 {
-            return Ok((out, BoundaryReport { constrained: cands.len(), centres: 0, rounds: 0, max_relative_error: 0.0 }));
+            return Ok((
+                out,
+                BoundaryReport { constrained: cands.len(), centres: 0, rounds: 0, max_relative_error: 0.0 },
+            ));
         }
-        let first = (0..cands.len()).max_by(|&a, &b| target(cands[a]).norm().total_cmp(&target(cands[b]).norm())).unwrap_or(0);
+        let first =
+            (0..cands.len()).max_by(|&a, &b| target(cands[a]).norm().total_cmp(&target(cands[b]).norm())).unwrap_or(0);
         let mut selected: Vec<usize> = match self.greedy_tol {
             Some(_) => farthest_points(points, &cands, first, self.initial_centres.max(8)),
             None => (0..cands.len()).collect(),
@@ -137,7 +155,10 @@ impl BoundaryMorph {
             let centres: Vec<Point3<f64>> = selected.iter().map(|&s| points[cands[s]]).collect();
             let disp: Vec<Vector3<f64>> = selected.iter().map(|&s| target(cands[s])).collect();
             let rbf = Rbf::try_new(&centres, &disp, self.kernel)?;
-            let err: Vec<f64> = cands.par_iter().map(|&c| (rbf.deform_point(&points[c]) - points[c] - target(c)).norm() / dmax).collect();
+            let err: Vec<f64> = cands
+                .par_iter()
+                .map(|&c| (rbf.deform_point(&points[c]) - points[c] - target(c)).norm() / dmax)
+                .collect();
             let max_err = err.iter().copied().fold(0.0, f64::max);
             let Some(tol) = self.greedy_tol else { break (rbf, max_err) };
             if max_err <= tol || selected.len() >= self.max_centres.min(cands.len()) {
@@ -163,7 +184,10 @@ impl BoundaryMorph {
                 }
             }
         });
-        Ok((out, BoundaryReport { constrained: cands.len(), centres: selected.len(), rounds, max_relative_error: max_err }))
+        Ok((
+            out,
+            BoundaryReport { constrained: cands.len(), centres: selected.len(), rounds, max_relative_error: max_err },
+        ))
     }
 }
 
@@ -177,7 +201,10 @@ impl BoundaryMorph {
 pub fn patch_constraints(mesh: &PolyMesh, motions: &[(&str, PatchMotion<'_>)]) -> Result<Vec<Constraint>> {
     for (name, _) in motions {
         if !mesh.patches().iter().any(|p| p.name == *name) {
-            return Err(Error::Topology(format!("no patch named {name:?} (patches: {})", mesh.patches().iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", "))));
+            return Err(Error::Topology(format!(
+                "no patch named {name:?} (patches: {})",
+                mesh.patches().iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
+            )));
         }
     }
     let np = mesh.points.len();
@@ -231,7 +258,12 @@ pub fn patch_constraints(mesh: &PolyMesh, motions: &[(&str, PatchMotion<'_>)]) -
 /// # Errors
 ///
 /// As [`BoundaryMorph::solve`]; [`Error::Degraded`].
-pub fn morph_volume(mesh: &mut PolyMesh, constraints: &[Constraint], options: &BoundaryMorph, allow_degrade: bool) -> Result<(MorphReport, BoundaryReport)> {
+pub fn morph_volume(
+    mesh: &mut PolyMesh,
+    constraints: &[Constraint],
+    options: &BoundaryMorph,
+    allow_degrade: bool,
+) -> Result<(MorphReport, BoundaryReport)> {
     let (disp, br) = options.solve(&mesh.points, constraints)?;
     let moved: Vec<Point3<f64>> = mesh.points.iter().zip(&disp).map(|(p, d)| p + d).collect();
     let report = crate::morph::move_checked(mesh, moved, allow_degrade)?;

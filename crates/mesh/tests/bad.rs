@@ -25,7 +25,21 @@ fn two_hexes(dir: &Path) -> PolyMesh {
         }
     }
     let id = |x: usize, y: usize, z: usize| x + 3 * y + 6 * z;
-    let hex = |x: usize| Cell::new(CellKind::Hexahedron, vec![id(x, 0, 0), id(x + 1, 0, 0), id(x + 1, 1, 0), id(x, 1, 0), id(x, 0, 1), id(x + 1, 0, 1), id(x + 1, 1, 1), id(x, 1, 1)]);
+    let hex = |x: usize| {
+        Cell::new(
+            CellKind::Hexahedron,
+            vec![
+                id(x, 0, 0),
+                id(x + 1, 0, 0),
+                id(x + 1, 1, 0),
+                id(x, 1, 0),
+                id(x, 0, 1),
+                id(x + 1, 0, 1),
+                id(x + 1, 1, 1),
+                id(x, 1, 1),
+            ],
+        )
+    };
     let m = PolyMesh::from_cells(pts, &[hex(0), hex(1)]).unwrap();
     m.write(dir).unwrap();
     m
@@ -96,7 +110,15 @@ fn polymesh_errors_name_file_and_position() {
     std::fs::write(d.join("points"), &bin).unwrap();
     let m = message(&PolyMesh::read(&d).unwrap_err());
     assert!(m.contains("byte") && m.contains("12 points"), "{m}");
-    for x in [dir, temp("poly-face"), temp("poly-owner"), temp("poly-nei"), temp("poly-dangling"), temp("poly-nan"), temp("poly-trunc")] {
+    for x in [
+        dir,
+        temp("poly-face"),
+        temp("poly-owner"),
+        temp("poly-nei"),
+        temp("poly-dangling"),
+        temp("poly-nan"),
+        temp("poly-trunc"),
+    ] {
         let _ = std::fs::remove_dir_all(x);
     }
 }
@@ -112,12 +134,16 @@ fn file_format_errors_name_the_line() {
     assert!(m.contains("3 triangles"), "{m}");
     let m = message(&Stl::parse(b"solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0\n").unwrap_err());
     assert!(m.contains("line 4"), "{m}");
-    let m = message(&Unv::parse("    -1\n  2411\n         1         1         1        11\n   0.0   0.0\n").unwrap_err());
+    let m =
+        message(&Unv::parse("    -1\n  2411\n         1         1         1        11\n   0.0   0.0\n").unwrap_err());
     assert!(m.contains("line"), "{m}");
     let msh = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 0 0\n$EndNodes\n$Elements\n1\n1 1 2 0 0 1 5\n$EndElements\n";
     let m = message(&Msh::parse(msh).unwrap_err());
     assert!(m.contains("line 10") && m.contains("node tag 5"), "{m}");
-    let m = message(&VtkLegacy::parse("# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 2 float\n0 0 0 1 0\n").unwrap_err());
+    let m = message(
+        &VtkLegacy::parse("# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 2 float\n0 0 0 1 0\n")
+            .unwrap_err(),
+    );
     assert!(m.contains("a coordinate") && m.contains("end of file"), "{m}");
     let m = message(&MeshFile::read(Path::new("/nonexistent/mesh.unv")).unwrap_err());
     assert!(m.contains("/nonexistent/mesh.unv"), "{m}");

@@ -37,7 +37,12 @@ struct Meshio {
 
 fn meshio_read(path: &Path) -> Meshio {
     let v: serde_json::Value = serde_json::from_str(&oracle(&["read", path.to_str().unwrap()])).unwrap();
-    let points = v["points"].as_array().unwrap().iter().map(|p| Point3::new(p[0].as_f64().unwrap(), p[1].as_f64().unwrap(), p[2].as_f64().unwrap())).collect();
+    let points = v["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| Point3::new(p[0].as_f64().unwrap(), p[1].as_f64().unwrap(), p[2].as_f64().unwrap()))
+        .collect();
     Meshio { points, cells: v["cells"].as_object().unwrap().clone() }
 }
 
@@ -135,19 +140,40 @@ fn rbf_volume_morph_of_a_gmsh_tet_mesh() {
     let on_body = |p: &Point3<f64>| ((p - centre).norm() - 0.25).abs() < 1e-6;
     let on_box = |p: &Point3<f64>| p.iter().zip([2.0, 1.0, 1.0]).any(|(&x, l)| x.abs() < 1e-9 || (x - l).abs() < 1e-9);
     // A dome: the top middle of a 3×3×3 lattice over the sphere raised by 0.4 box heights.
-    let mut ffd = Ffd::try_new([3, 3, 3], Point3::new(0.7, 0.2, 0.2), Vector3::new(0.6, 0.6, 0.6), Vector3::zeros()).unwrap();
+    let mut ffd =
+        Ffd::try_new([3, 3, 3], Point3::new(0.7, 0.2, 0.2), Vector3::new(0.6, 0.6, 0.6), Vector3::zeros()).unwrap();
     ffd.mu_mut().set(1, 1, 2, [0.0, 0.0, 0.4]);
     let body: Vec<usize> = (0..mesh.points.len()).filter(|&i| on_body(&mesh.points[i])).collect();
     assert!(body.len() > 50);
     let cons: Vec<Constraint> = mesh
         .points
         .iter()
-        .map(|p| if on_body(p) { Constraint::Moved(ffd.deform_point(p) - p) } else if on_box(p) { Constraint::Fixed } else { Constraint::Free })
+        .map(|p| {
+            if on_body(p) {
+                Constraint::Moved(ffd.deform_point(p) - p)
+            } else if on_box(p) {
+                Constraint::Fixed
+            } else {
+                Constraint::Free
+            }
+        })
         .collect();
-    for options in [BoundaryMorph::wendland(1.0), BoundaryMorph { kernel: Kernel::ThinPlate { radius: 1.0, k: 2 }, greedy_tol: None, initial_centres: 0, max_centres: usize::MAX }] {
+    for options in [
+        BoundaryMorph::wendland(1.0),
+        BoundaryMorph {
+            kernel: Kernel::ThinPlate { radius: 1.0, k: 2 },
+            greedy_tol: None,
+            initial_centres: 0,
+            max_centres: usize::MAX,
+        },
+    ] {
         let mut m: PolyMesh = mesh.clone();
-        let (report, br) = morph_volume(&mut m, &cons, &options, false).unwrap_or_else(|e| panic!("{:?}: {e}", options.kernel));
-        eprintln!("{:?}: {} constrained, {} centres, {} rounds, min volume {:e}", options.kernel, br.constrained, br.centres, br.rounds, report.after.min_volume.value);
+        let (report, br) =
+            morph_volume(&mut m, &cons, &options, false).unwrap_or_else(|e| panic!("{:?}: {e}", options.kernel));
+        eprintln!(
+            "{:?}: {} constrained, {} centres, {} rounds, min volume {:e}",
+            options.kernel, br.constrained, br.centres, br.rounds, report.after.min_volume.value
+        );
         assert_eq!(report.after.negative_volumes, 0);
         assert_eq!(report.after.pyramid_errors, 0);
         let lift = body.iter().map(|&i| m.points[i].z - mesh.points[i].z).fold(0.0, f64::max);

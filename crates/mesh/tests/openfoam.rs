@@ -66,7 +66,11 @@ fn make_case(dir: &Path) {
     std::fs::write(dir.join("system/controlDict"), CONTROL).unwrap();
     std::fs::write(dir.join("system/blockMeshDict"), BLOCK_MESH).unwrap();
     std::fs::write(dir.join("system/fvSchemes"), FV_SCHEMES).unwrap();
-    std::fs::write(dir.join("system/fvSolution"), "FoamFile { version 2.0; format ascii; class dictionary; object fvSolution; }\n").unwrap();
+    std::fs::write(
+        dir.join("system/fvSolution"),
+        "FoamFile { version 2.0; format ascii; class dictionary; object fvSolution; }\n",
+    )
+    .unwrap();
     let log = foam(dir, "blockMesh");
     assert!(log.contains("End"), "blockMesh failed:\n{log}");
 }
@@ -88,7 +92,11 @@ fn number_after<'a>(log: &'a str, key: &str) -> Option<&'a str> {
 
 fn check_mesh(case: &Path) -> CheckMesh {
     let log = foam(case, "checkMesh");
-    let num = |key: &str| -> f64 { number_after(&log, key).and_then(|s| s.parse().ok()).unwrap_or_else(|| panic!("no {key:?} in checkMesh log:\n{log}")) };
+    let num = |key: &str| -> f64 {
+        number_after(&log, key)
+            .and_then(|s| s.parse().ok())
+            .unwrap_or_else(|| panic!("no {key:?} in checkMesh log:\n{log}"))
+    };
     CheckMesh {
         cells: num("    cells:") as usize,
         ok: log.contains("\nMesh OK."),
@@ -115,7 +123,12 @@ fn compare(case: &Path, what: &str) -> Quality {
         "{what}: max non-orthogonality cadmorph {} checkMesh {} (rel {no:e}); max skewness cadmorph {} checkMesh {} (rel {sk:e}); min volume {} vs {}",
         q.max_non_orthogonality.value, cm.max_non_orth, q.max_skewness.value, cm.skewness, q.min_volume.value, cm.min_volume
     );
-    assert!(no <= CHECKMESH_MATCH, "{what}: non-orthogonality {} vs {}", q.max_non_orthogonality.value, cm.max_non_orth);
+    assert!(
+        no <= CHECKMESH_MATCH,
+        "{what}: non-orthogonality {} vs {}",
+        q.max_non_orthogonality.value,
+        cm.max_non_orth
+    );
     assert!(sk <= CHECKMESH_MATCH, "{what}: skewness {} vs {}", q.max_skewness.value, cm.skewness);
     assert!(rel(q.min_volume.value, cm.min_volume) <= CHECKMESH_MATCH);
     q
@@ -134,7 +147,9 @@ fn copy_case(from: &Path, to: &Path) {
 
 /// An FFD over the channel that raises the middle of the lattice by `lift` box heights.
 fn lift_ffd(lift: f64) -> Ffd {
-    let mut ffd = Ffd::try_new([3, 3, 2], Point3::new(-0.01, -0.01, -0.01), Vector3::new(3.02, 1.02, 0.32), Vector3::zeros()).unwrap();
+    let mut ffd =
+        Ffd::try_new([3, 3, 2], Point3::new(-0.01, -0.01, -0.01), Vector3::new(3.02, 1.02, 0.32), Vector3::zeros())
+            .unwrap();
     for k in 0..2 {
         ffd.mu_mut().set(1, 1, k, [0.0, lift, 0.0]);
     }
@@ -155,7 +170,11 @@ fn checkmesh_agrees_before_and_after_a_morph() {
     let same = temp("same");
     mesh.write(&same).unwrap();
     for f in ["points", "faces", "owner", "neighbour", "boundary"] {
-        assert_eq!(std::fs::read(same.join(f)).unwrap(), std::fs::read(base.join("constant/polyMesh").join(f)).unwrap(), "{f}");
+        assert_eq!(
+            std::fs::read(same.join(f)).unwrap(),
+            std::fs::read(base.join("constant/polyMesh").join(f)).unwrap(),
+            "{f}"
+        );
     }
 
     // A moderate morph: written, and checkMesh agrees.
@@ -186,7 +205,9 @@ fn checkmesh_agrees_before_and_after_a_morph() {
     mesh.write(&folded.join("constant/polyMesh")).unwrap();
     let log = foam(&folded, "checkMesh");
     assert!(log.contains("Failed") && !log.contains("\nMesh OK."), "checkMesh accepts the folded mesh:\n{log}");
-    let negative: usize = number_after(&log, "Number of negative volume cells:").and_then(|s| s.parse().ok()).unwrap_or_else(|| panic!("{log}"));
+    let negative: usize = number_after(&log, "Number of negative volume cells:")
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("{log}"));
     eprintln!("folded: checkMesh negative volume cells {negative}, cadmorph {}", report.after.negative_volumes);
     assert_eq!(negative, report.after.negative_volumes);
     for d in [base, same, morphed, folded] {
@@ -213,7 +234,11 @@ fn binary_and_compressed_polymesh() {
         assert!(log.contains("End"), "{log}");
         let poly = case.join("constant/polyMesh");
         if compression == "on" {
-            let st = Command::new("gzip").current_dir(&poly).args(["points", "faces", "owner", "neighbour"]).status().unwrap();
+            let st = Command::new("gzip")
+                .current_dir(&poly)
+                .args(["points", "faces", "owner", "neighbour"])
+                .status()
+                .unwrap();
             assert!(st.success());
         }
         let points_file = if compression == "on" { poly.join("points.gz") } else { poly.join("points") };
@@ -252,9 +277,16 @@ fn rbf_volume_morph_of_the_bump_passes_checkmesh() {
     let mut mesh = PolyMesh::read(&case).unwrap();
     let original = mesh.points.clone();
     let ffd = lift_ffd(0.15);
-    let cons = patch_constraints(&mesh, &[("bump", PatchMotion::Follow(&ffd)), ("top", PatchMotion::Fixed), ("sides", PatchMotion::Slip)]).unwrap();
+    let cons = patch_constraints(
+        &mesh,
+        &[("bump", PatchMotion::Follow(&ffd)), ("top", PatchMotion::Fixed), ("sides", PatchMotion::Slip)],
+    )
+    .unwrap();
     let (report, br) = morph_volume(&mut mesh, &cons, &BoundaryMorph::wendland(1.5), false).unwrap();
-    eprintln!("volume morph: {} constrained nodes, {} centres, {} rounds, max miss {:e}", br.constrained, br.centres, br.rounds, br.max_relative_error);
+    eprintln!(
+        "volume morph: {} constrained nodes, {} centres, {} rounds, max miss {:e}",
+        br.constrained, br.centres, br.rounds, br.max_relative_error
+    );
     assert!(br.centres < br.constrained, "greedy selection uses a subset");
     assert!(report.after.ok(), "{}", report.after.table());
     for (i, c) in cons.iter().enumerate() {
@@ -265,7 +297,8 @@ fn rbf_volume_morph_of_the_bump_passes_checkmesh() {
             Constraint::Free => {}
         }
     }
-    let interior_moved = cons.iter().enumerate().filter(|(i, c)| **c == Constraint::Free && mesh.points[*i] != original[*i]).count();
+    let interior_moved =
+        cons.iter().enumerate().filter(|(i, c)| **c == Constraint::Free && mesh.points[*i] != original[*i]).count();
     assert!(interior_moved > 0);
     mesh.write(&case.join("constant/polyMesh")).unwrap();
     compare(&case, "after RBF volume morph");

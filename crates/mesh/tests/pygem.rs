@@ -217,5 +217,8 @@ fn vtk_like_pygem() {
     let ours = VtkLegacy::parse(&v.write()).unwrap();
     // Every point PyGeM edited is exact; the rest equal the %g text of both files.
     assert_points_near(&ours.points, &v.points);
-    assert_points_near(&VtkLegacy::parse(&expected).unwrap().points, &VtkLegacy::parse(&v.write_vtk_style()).unwrap().points);
+    assert_points_near(
+        &VtkLegacy::parse(&expected).unwrap().points,
+        &VtkLegacy::parse(&v.write_vtk_style()).unwrap().points,
+    );
 }

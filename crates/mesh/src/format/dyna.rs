@@ -126,7 +126,13 @@ impl KeywordFile {
             let mut idx = Vec::with_capacity(nodes.len());
             for &id in &nodes {
                 let Some(&j) = index.get(&id) else {
-                    return Err(Error::OutOfRange { what: "element on line", index: line, target_kind: "node id", target: id, count: ids.len() });
+                    return Err(Error::OutOfRange {
+                        what: "element on line",
+                        index: line,
+                        target_kind: "node id",
+                        target: id,
+                        count: ids.len(),
+                    });
                 };
                 idx.push(j);
             }

@@ -61,7 +61,13 @@ impl Msh {
         let (mut points, mut tags, mut records) = (Vec::new(), Vec::new(), Vec::new());
         let mut raw: Vec<(usize, i64, i64, Vec<i64>)> = Vec::new();
         let mut i = 0;
-        let need = |i: usize, what: &'static str| if i < ranges.len() { Ok(()) } else { Err(Error::syntax(i, what, "end of file")) };
+        let need = |i: usize, what: &'static str| {
+            if i < ranges.len() {
+                Ok(())
+            } else {
+                Err(Error::syntax(i, what, "end of file"))
+            }
+        };
         while i < ranges.len() {
             let l = line(i);
             match l {
@@ -103,14 +109,16 @@ impl Msh {
                 }
                 "$Nodes" => {
                     need(i + 1, "the node header")?;
-                    let h: Vec<i64> = line(i + 1).split_whitespace().map(|s| parse_i64(s, i + 2)).collect::<Result<_>>()?;
+                    let h: Vec<i64> =
+                        line(i + 1).split_whitespace().map(|s| parse_i64(s, i + 2)).collect::<Result<_>>()?;
                     if h.len() != 4 {
                         return Err(Error::syntax(i + 2, "`numEntityBlocks numNodes minTag maxTag`", line(i + 1)));
                     }
                     let mut j = i + 2;
                     for _ in 0..h[0] {
                         need(j, "an entity block header")?;
-                        let b: Vec<i64> = line(j).split_whitespace().map(|s| parse_i64(s, j + 1)).collect::<Result<_>>()?;
+                        let b: Vec<i64> =
+                            line(j).split_whitespace().map(|s| parse_i64(s, j + 1)).collect::<Result<_>>()?;
                         if b.len() != 4 || b[3] < 0 || b[3] as usize > ranges.len() {
                             return Err(Error::syntax(j + 1, "`entityDim entityTag parametric numNodes`", line(j)));
                         }
@@ -126,7 +134,8 @@ impl Msh {
                             if f.len() < 3 {
                                 return Err(Error::syntax(c + 1, "`x y z`", line(c)));
                             }
-                            let p = Point3::new(parse_f64(f[0], c + 1)?, parse_f64(f[1], c + 1)?, parse_f64(f[2], c + 1)?);
+                            let p =
+                                Point3::new(parse_f64(f[0], c + 1)?, parse_f64(f[1], c + 1)?, parse_f64(f[2], c + 1)?);
                             points.push(p);
                             let r = ranges[c].clone();
                             records.push((r.start..r.start + trim_eol(&text[r]).len(), p));
@@ -144,7 +153,8 @@ impl Msh {
                     for k in 0..n {
                         let j = i + 2 + k;
                         need(j, "an element record")?;
-                        let f: Vec<i64> = line(j).split_whitespace().map(|s| parse_i64(s, j + 1)).collect::<Result<_>>()?;
+                        let f: Vec<i64> =
+                            line(j).split_whitespace().map(|s| parse_i64(s, j + 1)).collect::<Result<_>>()?;
                         if f.len() < 3 || f.len() < 3 + f[2].max(0) as usize {
                             return Err(Error::syntax(j + 1, "`tag type ntags tags… nodes…`", line(j)));
                         }
@@ -156,21 +166,24 @@ impl Msh {
                 }
                 "$Elements" => {
                     need(i + 1, "the element header")?;
-                    let h: Vec<i64> = line(i + 1).split_whitespace().map(|s| parse_i64(s, i + 2)).collect::<Result<_>>()?;
+                    let h: Vec<i64> =
+                        line(i + 1).split_whitespace().map(|s| parse_i64(s, i + 2)).collect::<Result<_>>()?;
                     if h.len() != 4 {
                         return Err(Error::syntax(i + 2, "`numEntityBlocks numElements minTag maxTag`", line(i + 1)));
                     }
                     let mut j = i + 2;
                     for _ in 0..h[0] {
                         need(j, "an entity block header")?;
-                        let b: Vec<i64> = line(j).split_whitespace().map(|s| parse_i64(s, j + 1)).collect::<Result<_>>()?;
+                        let b: Vec<i64> =
+                            line(j).split_whitespace().map(|s| parse_i64(s, j + 1)).collect::<Result<_>>()?;
                         if b.len() != 4 || b[3] < 0 || b[3] as usize > ranges.len() {
                             return Err(Error::syntax(j + 1, "`entityDim entityTag elementType numElements`", line(j)));
                         }
                         for k in 0..b[3] as usize {
                             let e = j + 1 + k;
                             need(e, "an element record")?;
-                            let f: Vec<i64> = line(e).split_whitespace().map(|s| parse_i64(s, e + 1)).collect::<Result<_>>()?;
+                            let f: Vec<i64> =
+                                line(e).split_whitespace().map(|s| parse_i64(s, e + 1)).collect::<Result<_>>()?;
                             if f.is_empty() {
                                 return Err(Error::syntax(e + 1, "`tag nodes…`", line(e)));
                             }
@@ -192,12 +205,22 @@ impl Msh {
         for (l, t, phys, nodes) in raw {
             let Some((kind, nn)) = kind_of(t) else { continue };
             if nodes.len() != nn {
-                return Err(Error::syntax(l, "as many nodes as the element type has", &format!("{} nodes for type {t}", nodes.len())));
+                return Err(Error::syntax(
+                    l,
+                    "as many nodes as the element type has",
+                    &format!("{} nodes for type {t}", nodes.len()),
+                ));
             }
             let mut idx = Vec::with_capacity(nn);
             for id in nodes {
                 let Some(&k) = index.get(&id) else {
-                    return Err(Error::OutOfRange { what: "element on line", index: l, target_kind: "node tag", target: id, count: tags.len() });
+                    return Err(Error::OutOfRange {
+                        what: "element on line",
+                        index: l,
+                        target_kind: "node tag",
+                        target: id,
+                        count: tags.len(),
+                    });
                 };
                 idx.push(k);
             }

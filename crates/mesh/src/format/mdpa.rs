@@ -85,7 +85,8 @@ impl Mdpa {
                     if tok.len() != 4 {
                         return Err(Error::syntax(n + 1, "`id x y z`", line));
                     }
-                    let p = Point3::new(parse_f64(tok[1], n + 1)?, parse_f64(tok[2], n + 1)?, parse_f64(tok[3], n + 1)?);
+                    let p =
+                        Point3::new(parse_f64(tok[1], n + 1)?, parse_f64(tok[2], n + 1)?, parse_f64(tok[3], n + 1)?);
                     ids.push(parse_i64(tok[0], n + 1)?);
                     points.push(p);
                     records.push((r.start..r.start + line.len(), p));
@@ -111,7 +112,11 @@ impl Mdpa {
             let kind = match nodes.len() {
                 2 => CellKind::Line,
                 3 => CellKind::Triangle,
-                4 if (name.contains("Tetra") || name.contains("3D4")) && !["Shell", "Quad", "Surface", "Membrane"].iter().any(|w| name.contains(w)) => CellKind::Tetra,
+                4 if (name.contains("Tetra") || name.contains("3D4"))
+                    && !["Shell", "Quad", "Surface", "Membrane"].iter().any(|w| name.contains(w)) =>
+                {
+                    CellKind::Tetra
+                }
                 4 => CellKind::Quad,
                 6 => CellKind::Wedge,
                 8 => CellKind::Hexahedron,
@@ -122,7 +127,13 @@ impl Mdpa {
                 match index.get(&id) {
                     Some(&i) => idx.push(i),
                     None => {
-                        return Err(Error::OutOfRange { what: "element on line", index: line, target_kind: "node id", target: id, count: ids.len() })
+                        return Err(Error::OutOfRange {
+                            what: "element on line",
+                            index: line,
+                            target_kind: "node id",
+                            target: id,
+                            count: ids.len(),
+                        })
                     }
                 }
             }
@@ -140,7 +151,9 @@ impl Mdpa {
     /// What PyGeM's `MdpaHandler.write` writes: every node record formatted anew (with
     /// PyGeM's id, the 1-based position).
     pub fn write_pygem(&self) -> String {
-        self.lines.write(&self.points, true, |i, p, _| format!(" {:6} {:>23} {:>23} {:>23}", i + 1, py_exp(p.x, 16), py_exp(p.y, 16), py_exp(p.z, 16)))
+        self.lines.write(&self.points, true, |i, p, _| {
+            format!(" {:6} {:>23} {:>23} {:>23}", i + 1, py_exp(p.x, 16), py_exp(p.y, 16), py_exp(p.z, 16))
+        })
     }
 
     fn format(&self, i: usize, p: &Point3<f64>) -> String {

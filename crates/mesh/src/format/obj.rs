@@ -43,7 +43,8 @@ impl Obj {
     /// [`Error::Syntax`] naming the line of a bad vertex or face; [`Error::OutOfRange`]
     /// for a face index that is not a vertex (yet).
     pub fn parse(text: &str) -> Result<Obj> {
-        let (mut points, mut records, mut cells, mut groups, mut face_groups) = (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let (mut points, mut records, mut cells, mut groups, mut face_groups) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut group = None;
         for (n, r) in line_ranges(text).into_iter().enumerate() {
             let line = trim_eol(&text[r.clone()]);
@@ -61,10 +62,21 @@ impl Obj {
                 Some("f") => {
                     let mut nodes = Vec::new();
                     for t in tok {
-                        let i: i64 = t.split('/').next().unwrap_or("").parse().map_err(|_| Error::syntax(n + 1, "a vertex index", t))?;
+                        let i: i64 = t
+                            .split('/')
+                            .next()
+                            .unwrap_or("")
+                            .parse()
+                            .map_err(|_| Error::syntax(n + 1, "a vertex index", t))?;
                         let j = if i < 0 { points.len() as i64 + i } else { i - 1 };
                         if j < 0 || j as usize >= points.len() {
-                            return Err(Error::OutOfRange { what: "face on line", index: n + 1, target_kind: "vertex", target: i, count: points.len() });
+                            return Err(Error::OutOfRange {
+                                what: "face on line",
+                                index: n + 1,
+                                target_kind: "vertex",
+                                target: i,
+                                count: points.len(),
+                            });
                         }
                         nodes.push(j as usize);
                     }

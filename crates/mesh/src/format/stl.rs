@@ -107,7 +107,8 @@ impl Stl {
         if binary_size || !starts_solid {
             Stl::parse_binary(bytes)
         } else {
-            let text = std::str::from_utf8(bytes).map_err(|e| Error::Binary { offset: e.valid_up_to(), what: "ASCII STL that is not UTF-8".into() })?;
+            let text = std::str::from_utf8(bytes)
+                .map_err(|e| Error::Binary { offset: e.valid_up_to(), what: "ASCII STL that is not UTF-8".into() })?;
             Stl::parse_ascii(text)
         }
     }
@@ -118,7 +119,14 @@ impl Stl {
         }
         let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
         if bytes.len() != 84 + 50 * n {
-            return Err(Error::Binary { offset: bytes.len().min(84 + 50 * n), what: format!("{n} triangles of 50 bytes after the header ({} bytes), but the file has {}", 84 + 50 * n, bytes.len()) });
+            return Err(Error::Binary {
+                offset: bytes.len().min(84 + 50 * n),
+                what: format!(
+                    "{n} triangles of 50 bytes after the header ({} bytes), but the file has {}",
+                    84 + 50 * n,
+                    bytes.len()
+                ),
+            });
         }
         let mut m = Merge { map: HashMap::new(), points: Vec::new() };
         let mut triangles = Vec::with_capacity(n);
@@ -129,14 +137,23 @@ impl Stl {
             for (v, slot) in tri.iter_mut().enumerate() {
                 let p = Point3::new(f(3 + 3 * v), f(4 + 3 * v), f(5 + 3 * v));
                 if let Some(bad) = p.iter().find(|x| !x.is_finite()) {
-                    return Err(Error::Binary { offset: 84 + 50 * t + 12 * (v + 1), what: format!("triangle {t}: vertex coordinate {bad} is not finite") });
+                    return Err(Error::Binary {
+                        offset: 84 + 50 * t + 12 * (v + 1),
+                        what: format!("triangle {t}: vertex coordinate {bad} is not finite"),
+                    });
                 }
                 *slot = m.add(p);
             }
             triangles.push(tri);
         }
         let name = String::from_utf8_lossy(&bytes[..80]).trim_end_matches(['\0', ' ']).to_string();
-        Ok(Stl { original: m.points.clone(), points: m.points, solids: vec![Solid { name, triangles: 0..n }], triangles, storage: Storage::Binary { bytes: bytes.to_vec() } })
+        Ok(Stl {
+            original: m.points.clone(),
+            points: m.points,
+            solids: vec![Solid { name, triangles: 0..n }],
+            triangles,
+            storage: Storage::Binary { bytes: bytes.to_vec() },
+        })
     }
 
     fn parse_ascii(text: &str) -> Result<Stl> {
@@ -153,7 +170,9 @@ impl Stl {
             let Some(kw) = tok.next() else { continue };
             let lno = n + 1;
             match kw {
-                "solid" if solid.is_none() => solid = Some((line.trim_start()[5..].trim().to_string(), triangles.len())),
+                "solid" if solid.is_none() => {
+                    solid = Some((line.trim_start()[5..].trim().to_string(), triangles.len()))
+                }
                 "endsolid" => {
                     let Some((name, first)) = solid.take() else {
                         return Err(Error::syntax(lno, "`solid` before `endsolid`", line));
@@ -187,7 +206,13 @@ impl Stl {
                     triangles.push([v[0], v[1], v[2]]);
                     facets.push(start..r.start + line.len());
                 }
-                _ => return Err(Error::syntax(lno, "an STL keyword (solid, facet, outer loop, vertex, endloop, endfacet, endsolid)", line)),
+                _ => {
+                    return Err(Error::syntax(
+                        lno,
+                        "an STL keyword (solid, facet, outer loop, vertex, endloop, endfacet, endsolid)",
+                        line,
+                    ))
+                }
             }
         }
         if let Some((_, fl, _)) = facet {
@@ -197,11 +222,22 @@ impl Stl {
             // A missing `endsolid` is common; accept it.
             solids.push(Solid { name, triangles: first..triangles.len() });
         }
-        Ok(Stl { original: m.points.clone(), points: m.points, triangles, solids, storage: Storage::Ascii { text: text.to_string(), facets } })
+        Ok(Stl {
+            original: m.points.clone(),
+            points: m.points,
+            triangles,
+            solids,
+            storage: Storage::Ascii { text: text.to_string(), facets },
+        })
     }
 
     fn moved(&self) -> Vec<bool> {
-        let mv: Vec<bool> = self.points.iter().zip(&self.original).map(|(a, b)| a.iter().zip(b.iter()).any(|(x, y)| x.to_bits() != y.to_bits())).collect();
+        let mv: Vec<bool> = self
+            .points
+            .iter()
+            .zip(&self.original)
+            .map(|(a, b)| a.iter().zip(b.iter()).any(|(x, y)| x.to_bits() != y.to_bits()))
+            .collect();
         self.triangles.iter().map(|t| t.iter().any(|&v| mv[v])).collect()
     }
 
@@ -220,9 +256,19 @@ impl Stl {
                         let [a, b, c] = self.triangles[t].map(|i| self.points[i]);
                         let n = normal(&a, &b, &c);
                         let indent: String = text[..r.start].rsplit('\n').next().unwrap_or("").to_string();
-                        out.push_str(&format!("facet normal {} {} {}\n{indent}  outer loop\n", py_str(n.x), py_str(n.y), py_str(n.z)));
+                        out.push_str(&format!(
+                            "facet normal {} {} {}\n{indent}  outer loop\n",
+                            py_str(n.x),
+                            py_str(n.y),
+                            py_str(n.z)
+                        ));
                         for p in [a, b, c] {
-                            out.push_str(&format!("{indent}    vertex {} {} {}\n", py_str(p.x), py_str(p.y), py_str(p.z)));
+                            out.push_str(&format!(
+                                "{indent}    vertex {} {} {}\n",
+                                py_str(p.x),
+                                py_str(p.y),
+                                py_str(p.z)
+                            ));
                         }
                         out.push_str(&format!("{indent}  endloop\n{indent}endfacet"));
                         at = r.end;

@@ -137,7 +137,13 @@ impl Unv {
             let mut idx = Vec::with_capacity(nodes.len());
             for id in nodes {
                 let Some(&j) = index.get(&id) else {
-                    return Err(Error::OutOfRange { what: "element on line", index: l, target_kind: "node label", target: id, count: labels.len() });
+                    return Err(Error::OutOfRange {
+                        what: "element on line",
+                        index: l,
+                        target_kind: "node label",
+                        target: id,
+                        count: labels.len(),
+                    });
                 };
                 idx.push(j);
             }

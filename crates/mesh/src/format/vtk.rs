@@ -138,20 +138,36 @@ impl VtkLegacy {
                             Some((_, "CONNECTIVITY")) => {
                                 w.next();
                             }
-                            other => return Err(Error::syntax(w.line(w.pos), "`CONNECTIVITY`", other.map(|o| o.1).unwrap_or("end of file"))),
+                            other => {
+                                return Err(Error::syntax(
+                                    w.line(w.pos),
+                                    "`CONNECTIVITY`",
+                                    other.map(|o| o.1).unwrap_or("end of file"),
+                                ))
+                            }
                         }
                         let mut conn = Vec::with_capacity(size);
                         for _ in 0..size {
                             let at = w.pos;
                             let i: i64 = w.num("a point index")?;
                             if i < 0 || i as usize >= points.len() {
-                                return Err(Error::OutOfRange { what: "cell on line", index: w.line(at), target_kind: "point", target: i, count: points.len() });
+                                return Err(Error::OutOfRange {
+                                    what: "cell on line",
+                                    index: w.line(at),
+                                    target_kind: "point",
+                                    target: i,
+                                    count: points.len(),
+                                });
                             }
                             conn.push(i as usize);
                         }
                         for k in 1..off.len() {
                             if off[k - 1] > off[k] || off[k] > conn.len() {
-                                return Err(Error::syntax(w.line(at), "increasing offsets within the connectivity", &format!("offset {} = {}", k, off[k])));
+                                return Err(Error::syntax(
+                                    w.line(at),
+                                    "increasing offsets within the connectivity",
+                                    &format!("offset {} = {}", k, off[k]),
+                                ));
                             }
                             list.push(conn[off[k - 1]..off[k]].to_vec());
                         }
@@ -161,14 +177,24 @@ impl VtkLegacy {
                     for _ in 0..if list.is_empty() { n } else { 0 } {
                         let k: usize = w.num("a node count")?;
                         if k > size {
-                            return Err(Error::syntax(w.line(w.pos), "a node count within the list size", &k.to_string()));
+                            return Err(Error::syntax(
+                                w.line(w.pos),
+                                "a node count within the list size",
+                                &k.to_string(),
+                            ));
                         }
                         let mut nodes = Vec::with_capacity(k);
                         for _ in 0..k {
                             let save = w.pos;
                             let i: i64 = w.num("a point index")?;
                             if i < 0 || i as usize >= points.len() {
-                                return Err(Error::OutOfRange { what: "cell on line", index: w.line(save), target_kind: "point", target: i, count: points.len() });
+                                return Err(Error::OutOfRange {
+                                    what: "cell on line",
+                                    index: w.line(save),
+                                    target_kind: "point",
+                                    target: i,
+                                    count: points.len(),
+                                });
                             }
                             nodes.push(i as usize);
                         }

@@ -203,10 +203,17 @@ pub(crate) fn read_labels(lx: &mut Lexer<'_>, h: &Header) -> Result<Vec<i64>> {
         let len = n * h.label_bytes;
         let start = lx.pos;
         if start + len > lx.bytes.len() {
-            return Err(Error::Binary { offset: start, what: format!("{n} labels of {} bytes, but the file ends at byte {}", h.label_bytes, lx.bytes.len()) });
+            return Err(Error::Binary {
+                offset: start,
+                what: format!("{n} labels of {} bytes, but the file ends at byte {}", h.label_bytes, lx.bytes.len()),
+            });
         }
         for c in lx.bytes[start..start + len].chunks_exact(h.label_bytes) {
-            out.push(if h.label_bytes == 4 { i32::from_le_bytes([c[0], c[1], c[2], c[3]]) as i64 } else { i64::from_le_bytes(c.try_into().unwrap_or([0; 8])) });
+            out.push(if h.label_bytes == 4 {
+                i32::from_le_bytes([c[0], c[1], c[2], c[3]]) as i64
+            } else {
+                i64::from_le_bytes(c.try_into().unwrap_or([0; 8]))
+            });
         }
         lx.pos = start + len;
     } else {
@@ -251,7 +258,10 @@ pub(crate) fn face_list(bytes: &[u8]) -> Result<(Header, Vec<usize>, Vec<i64>)> 
         let mut off = Vec::with_capacity(offsets.len());
         for (i, &o) in offsets.iter().enumerate() {
             if o < 0 || o as usize > flat.len() || (i > 0 && o < offsets[i - 1]) {
-                return Err(Error::Topology(format!("faces: offset {i} is {o}, outside 0..={} or decreasing", flat.len())));
+                return Err(Error::Topology(format!(
+                    "faces: offset {i} is {o}, outside 0..={} or decreasing",
+                    flat.len()
+                )));
             }
             off.push(o as usize);
         }

@@ -80,7 +80,13 @@ impl PolyMesh {
     /// # Errors
     ///
     /// As the checks of [`PolyMesh::read`].
-    pub fn try_new(points: Vec<Point3<f64>>, faces: Vec<Vec<usize>>, owner: Vec<usize>, neighbour: Vec<usize>, patches: Vec<Patch>) -> Result<PolyMesh> {
+    pub fn try_new(
+        points: Vec<Point3<f64>>,
+        faces: Vec<Vec<usize>>,
+        owner: Vec<usize>,
+        neighbour: Vec<usize>,
+        patches: Vec<Patch>,
+    ) -> Result<PolyMesh> {
         let mut face_offsets = Vec::with_capacity(faces.len() + 1);
         face_offsets.push(0);
         let mut face_points = Vec::with_capacity(faces.len() * 4);
@@ -105,7 +111,8 @@ impl PolyMesh {
     /// not agree ([`Error::CountMismatch`]), patches that do not cover the boundary faces
     /// or a cell with fewer than four faces ([`Error::Topology`]).
     pub fn read(dir: &Path) -> Result<PolyMesh> {
-        let dir = if dir.join("constant/polyMesh").is_dir() { dir.join("constant/polyMesh") } else { dir.to_path_buf() };
+        let dir =
+            if dir.join("constant/polyMesh").is_dir() { dir.join("constant/polyMesh") } else { dir.to_path_buf() };
         let need = |name: &str| -> Result<(Vec<u8>, bool, PathBuf)> {
             read_maybe_gz(&dir, name)?.ok_or_else(|| Error::Io {
                 path: dir.join(name),
@@ -128,14 +135,28 @@ impl PolyMesh {
         for (k, &v) in flat.iter().enumerate() {
             if v < 0 || v as usize >= np_ {
                 let face = face_offsets.partition_point(|&o| o <= k).saturating_sub(1);
-                return Err(Error::OutOfRange { what: "face", index: face, target_kind: "point", target: v, count: np_ }.in_file(&fp));
+                return Err(Error::OutOfRange {
+                    what: "face",
+                    index: face,
+                    target_kind: "point",
+                    target: v,
+                    count: np_,
+                }
+                .in_file(&fp));
             }
             face_points.push(v as usize);
         }
         let to_cells = |v: Vec<i64>, what: &'static str, path: &Path| -> Result<Vec<usize>> {
             v.into_iter()
                 .enumerate()
-                .map(|(i, c)| if c < 0 || c > i32::MAX as i64 { Err(Error::OutOfRange { what, index: i, target_kind: "cell", target: c, count: 0 }.in_file(path)) } else { Ok(c as usize) })
+                .map(|(i, c)| {
+                    if c < 0 || c > i32::MAX as i64 {
+                        Err(Error::OutOfRange { what, index: i, target_kind: "cell", target: c, count: 0 }
+                            .in_file(path))
+                    } else {
+                        Ok(c as usize)
+                    }
+                })
                 .collect()
         };
         let owner = to_cells(owner, "owner entry of face", &op)?;
@@ -144,8 +165,21 @@ impl PolyMesh {
         // The owner note gives nCells; a label beyond it is out of range.
         let n_cells = note_value(&oh.note, "nCells").unwrap_or(n_from_data);
         if n_from_data > n_cells {
-            let (i, c) = owner.iter().enumerate().chain(neighbour.iter().enumerate()).find(|(_, &c)| c >= n_cells).map(|(i, &c)| (i, c)).unwrap_or((0, 0));
-            return Err(Error::OutOfRange { what: "face", index: i, target_kind: "cell", target: c as i64, count: n_cells }.in_file(&op));
+            let (i, c) = owner
+                .iter()
+                .enumerate()
+                .chain(neighbour.iter().enumerate())
+                .find(|(_, &c)| c >= n_cells)
+                .map(|(i, &c)| (i, c))
+                .unwrap_or((0, 0));
+            return Err(Error::OutOfRange {
+                what: "face",
+                index: i,
+                target_kind: "cell",
+                target: c as i64,
+                count: n_cells,
+            }
+            .in_file(&op));
         }
         let mut files = Vec::new();
         let entries = std::fs::read_dir(&dir).map_err(io(&dir))?;
@@ -175,23 +209,43 @@ impl PolyMesh {
     fn validate(&self) -> Result<()> {
         let nf = self.n_faces();
         if self.owner.len() != nf {
-            return Err(Error::CountMismatch { what: "owner entries (one per face)".into(), expected: nf, found: self.owner.len() });
+            return Err(Error::CountMismatch {
+                what: "owner entries (one per face)".into(),
+                expected: nf,
+                found: self.owner.len(),
+            });
         }
         let ni = self.neighbour.len();
         if ni > nf {
-            return Err(Error::CountMismatch { what: "neighbour entries (at most one per face)".into(), expected: nf, found: ni });
+            return Err(Error::CountMismatch {
+                what: "neighbour entries (at most one per face)".into(),
+                expected: nf,
+                found: ni,
+            });
         }
         for (i, f) in (0..nf).map(|i| (i, self.face(i))) {
             if f.len() < 3 {
                 return Err(Error::Topology(format!("face {i} has {} points; a face needs 3 or more", f.len())));
             }
             if let Some(&p) = f.iter().find(|&&p| p >= self.points.len()) {
-                return Err(Error::OutOfRange { what: "face", index: i, target_kind: "point", target: p as i64, count: self.points.len() });
+                return Err(Error::OutOfRange {
+                    what: "face",
+                    index: i,
+                    target_kind: "point",
+                    target: p as i64,
+                    count: self.points.len(),
+                });
             }
         }
         for i in 0..ni {
             if self.neighbour[i] >= self.n_cells || self.owner[i] >= self.n_cells {
-                return Err(Error::OutOfRange { what: "face", index: i, target_kind: "cell", target: self.neighbour[i].max(self.owner[i]) as i64, count: self.n_cells });
+                return Err(Error::OutOfRange {
+                    what: "face",
+                    index: i,
+                    target_kind: "cell",
+                    target: self.neighbour[i].max(self.owner[i]) as i64,
+                    count: self.n_cells,
+                });
             }
             if self.neighbour[i] == self.owner[i] {
                 return Err(Error::Topology(format!("internal face {i} has cell {} on both sides", self.owner[i])));
@@ -200,7 +254,10 @@ impl PolyMesh {
         let mut next = ni;
         for p in &self.patches {
             if p.start_face != next {
-                return Err(Error::Topology(format!("patch {:?} starts at face {}, but the previous boundary faces end at {next}", p.name, p.start_face)));
+                return Err(Error::Topology(format!(
+                    "patch {:?} starts at face {}, but the previous boundary faces end at {next}",
+                    p.name, p.start_face
+                )));
             }
             next += p.n_faces;
         }
@@ -265,7 +322,13 @@ impl PolyMesh {
         Ok(src
             .files
             .iter()
-            .map(|(n, b)| if n == name && !unchanged { (PathBuf::from(n), bytes.clone()) } else { (PathBuf::from(n), b.clone()) })
+            .map(|(n, b)| {
+                if n == name && !unchanged {
+                    (PathBuf::from(n), bytes.clone())
+                } else {
+                    (PathBuf::from(n), b.clone())
+                }
+            })
             .collect())
     }
 
@@ -285,7 +348,13 @@ impl PolyMesh {
             let note = if note.is_empty() { String::new() } else { format!("    note        \"{note}\";\n") };
             format!("FoamFile\n{{\n    version     2.0;\n    format      ascii;\n    class       {class};\n{note}    location    \"constant/polyMesh\";\n    object      {object};\n}}\n\n")
         };
-        let note = format!("nPoints:{} nCells:{} nFaces:{} nInternalFaces:{}", self.points.len(), self.n_cells, self.n_faces(), self.n_internal_faces());
+        let note = format!(
+            "nPoints:{} nCells:{} nFaces:{} nInternalFaces:{}",
+            self.points.len(),
+            self.n_cells,
+            self.n_faces(),
+            self.n_internal_faces()
+        );
         let mut pts = head("vectorField", "points", "");
         let _ = writeln!(pts, "{}\n(", self.points.len());
         for p in &self.points {

@@ -61,7 +61,10 @@ impl FoamPoints {
             let start = lx.pos;
             let len = n * 3 * w;
             if start + len > bytes.len() {
-                return Err(Error::Binary { offset: start, what: format!("{n} points of 3×{w} bytes, but the file ends at byte {}", bytes.len()) });
+                return Err(Error::Binary {
+                    offset: start,
+                    what: format!("{n} points of 3×{w} bytes, but the file ends at byte {}", bytes.len()),
+                });
             }
             for c in bytes[start..start + len].chunks_exact(3 * w) {
                 let v = |k: usize| {
@@ -105,8 +108,10 @@ impl FoamPoints {
                 points.push(p);
                 records.push((start..lx.pos, p));
             }
-            let text = String::from_utf8(bytes.to_vec())
-                .map_err(|e| Error::Binary { offset: e.utf8_error().valid_up_to(), what: "an ASCII points file that is not UTF-8".into() })?;
+            let text = String::from_utf8(bytes.to_vec()).map_err(|e| Error::Binary {
+                offset: e.utf8_error().valid_up_to(),
+                what: "an ASCII points file that is not UTF-8".into(),
+            })?;
             Layout::Ascii(NodeLines { text, records })
         };
         lx.expect(b')', "`)` closing the point list (is the size right?)")?;
@@ -156,10 +161,16 @@ impl FoamPoints {
             Layout::Binary(r) => r.len() / (3 * self.header.scalar_bytes),
         };
         if n != self.points.len() {
-            return Err(Error::CountMismatch { what: "points (a morph keeps the count)".into(), expected: n, found: self.points.len() });
+            return Err(Error::CountMismatch {
+                what: "points (a morph keeps the count)".into(),
+                expected: n,
+                found: self.points.len(),
+            });
         }
         Ok(match &self.layout {
-            Layout::Ascii(lines) => lines.write(&self.points, all, |_, p, _| format!("({} {} {})", py_str(p.x), py_str(p.y), py_str(p.z))).into_bytes(),
+            Layout::Ascii(lines) => lines
+                .write(&self.points, all, |_, p, _| format!("({} {} {})", py_str(p.x), py_str(p.y), py_str(p.z)))
+                .into_bytes(),
             Layout::Binary(r) => {
                 let mut out = self.bytes.clone();
                 let w = self.header.scalar_bytes;
