@@ -38,6 +38,9 @@ def make(out):
     meshio.write(f"{out}/box_ascii.stl", surf, binary=False)
     meshio.write(f"{out}/box_bin.stl", surf, binary=True)
     meshio.write(f"{out}/box.mdpa", vol)
+    meshio.write(f"{out}/box_zlib.vtu", vol)
+    meshio.write(f"{out}/box_b64.vtu", vol, compression=None)
+    meshio.write(f"{out}/box_ascii.vtu", vol, binary=False)
 
 
 def read(path):

@@ -8,7 +8,7 @@ use nalgebra::Point3;
 use crate::error::io;
 use crate::format::{
     dyna::KeywordFile, elmer::ElmerNodes, foam::PolyMesh, gmsh::Msh, mdpa::Mdpa, obj::Obj, stl::Stl, unv::Unv,
-    vtk::VtkLegacy,
+    vtk::VtkLegacy, vtu::Vtu,
 };
 use crate::{Cell, Error, Result};
 
@@ -35,6 +35,8 @@ pub enum MeshFile {
     Obj(Obj),
     /// Gmsh MSH 2.2 or 4.1 ASCII (`.msh`).
     Msh(Msh),
+    /// VTK XML (`.vtu`, `.vtp`).
+    Vtu(Vtu),
 }
 
 fn read_text(path: &Path) -> Result<String> {
@@ -67,6 +69,7 @@ impl MeshFile {
             "vtk" => VtkLegacy::parse(&read_text(path)?).map(MeshFile::Vtk),
             "obj" => Obj::parse(&read_text(path)?).map(MeshFile::Obj),
             "msh" => Msh::parse(&read_text(path)?).map(MeshFile::Msh),
+            "vtu" | "vtp" => Vtu::parse(&std::fs::read(path).map_err(io(path))?).map(MeshFile::Vtu),
             _ => return Err(Error::Unsupported(format!("{}: unknown mesh extension {ext:?}", path.display()))),
         };
         r.map_err(|e| e.in_file(path))
@@ -84,6 +87,7 @@ impl MeshFile {
             MeshFile::Vtk(m) => &m.points,
             MeshFile::Obj(m) => &m.points,
             MeshFile::Msh(m) => &m.points,
+            MeshFile::Vtu(m) => &m.points,
         }
     }
 
@@ -99,6 +103,7 @@ impl MeshFile {
             MeshFile::Vtk(m) => &mut m.points,
             MeshFile::Obj(m) => &mut m.points,
             MeshFile::Msh(m) => &mut m.points,
+            MeshFile::Vtu(m) => &mut m.points,
         }
     }
 
@@ -114,6 +119,7 @@ impl MeshFile {
             MeshFile::Vtk(m) => m.cells.clone(),
             MeshFile::Obj(m) => m.cells.clone(),
             MeshFile::Msh(m) => m.cells.iter().map(|c| c.1.clone()).collect(),
+            MeshFile::Vtu(m) => m.cells.clone(),
         }
     }
 
@@ -156,6 +162,7 @@ impl MeshFile {
             MeshFile::Mdpa(m) => m.write(),
             MeshFile::Elmer(m) => m.write(),
             MeshFile::Stl(m) => return crate::atomic::write_atomic(path, &m.write()),
+            MeshFile::Vtu(m) => return crate::atomic::write_atomic(path, &m.write()),
             MeshFile::Vtk(m) => m.write(),
             MeshFile::Obj(m) => m.write(),
             MeshFile::Msh(m) => m.write(),

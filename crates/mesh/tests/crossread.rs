@@ -78,6 +78,11 @@ fn formats_cross_read_with_meshio_and_gmsh() {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     oracle(&["make", dir.to_str().unwrap()]);
+    // cadmorph's own VTU writer (appended raw).
+    let msh = MeshFile::read(&dir.join("box41.msh")).unwrap();
+    let tets: Vec<_> = msh.cells().into_iter().filter(|c| c.kind == CellKind::Tetra).collect();
+    std::fs::write(dir.join("fresh.vtu"), cadmorph_mesh::format::vtu::Vtu::write_unstructured(msh.points(), &tets))
+        .unwrap();
     let morph = Affine::translation(Vector3::new(0.1, -0.2, 0.3)).then(Affine::scaling(Vector3::new(1.5, 1.0, 0.5)));
     for (name, tol, unordered) in [
         ("box22.msh", TEXT_MATCH, false),
@@ -87,6 +92,10 @@ fn formats_cross_read_with_meshio_and_gmsh() {
         ("box_ascii.stl", TEXT_MATCH, true),
         ("box_bin.stl", F32_MATCH, true),
         ("box.mdpa", TEXT_MATCH, false),
+        ("box_zlib.vtu", TEXT_MATCH, false),
+        ("box_b64.vtu", TEXT_MATCH, false),
+        ("box_ascii.vtu", TEXT_MATCH, false),
+        ("fresh.vtu", TEXT_MATCH, false),
     ] {
         let path = dir.join(name);
         let file = MeshFile::read(&path).unwrap_or_else(|e| panic!("{name}: {e}"));

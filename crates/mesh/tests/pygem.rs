@@ -222,3 +222,28 @@ fn vtk_like_pygem() {
         &VtkLegacy::parse(&v.write_vtk_style()).unwrap().points,
     );
 }
+
+/// PyGeM's `points_test_true_version6.vtp` (written by VTK 9: appended base64, zlib): the
+/// point norms match the `RangeMin`/`RangeMax` VTK wrote beside the array; a morph is
+/// written back (new compressed size, later offsets shifted) and reads back exactly.
+#[test]
+fn vtp_appended_base64_zlib() {
+    use cadmorph_mesh::format::vtu::Vtu;
+    let bytes = std::fs::read(data("points_test_true_version6.vtp")).unwrap();
+    let mut v = Vtu::parse(&bytes).unwrap();
+    assert_eq!(v.points.len(), 4);
+    assert_eq!(v.cells.len(), 4, "four vertices");
+    let norms: Vec<f64> = v.points.iter().map(|p| p.coords.norm()).collect();
+    let (lo, hi) = norms.iter().fold((f64::MAX, 0.0f64), |a, &n| (a.0.min(n), a.1.max(n)));
+    // VTK prints the range with 11 significant digits; the points are Float32.
+    assert!((lo - 2.2360679775).abs() < 1e-6 && (hi - 17.378147197).abs() < 1e-6, "{lo} {hi}");
+    assert_eq!(v.write(), bytes);
+    for (i, p) in v.points.iter_mut().enumerate() {
+        p.x += 0.125 * (i as f64 + 1.0);
+        p.z -= 3.0;
+    }
+    let moved = v.points.clone();
+    let back = Vtu::parse(&v.write()).unwrap();
+    assert_eq!(back.points, moved.iter().map(|p| p.map(|x| x as f32 as f64)).collect::<Vec<_>>());
+    assert_eq!(back.cells, v.cells);
+}

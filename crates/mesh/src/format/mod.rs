@@ -11,3 +11,4 @@ pub mod obj;
 pub mod stl;
 pub mod unv;
 pub mod vtk;
+pub mod vtu;
