@@ -247,3 +247,48 @@ fn vtp_appended_base64_zlib() {
     assert_eq!(back.points, moved.iter().map(|p| p.map(|x| x as f32 as f64)).collect::<Vec<_>>());
     assert_eq!(back.cells, v.cells);
 }
+
+/// The lattice and control-point files PyGeM writes beside its parameters (`box_*.vtk`,
+/// VTK's `%g` of `f32` points): cadmorph's FFD lattice of `parameters_test_ffd_sphere.prm`
+/// (C order as polydata, x fastest as a structured grid) and the RBF control points of
+/// `parameters_rbf_cube.prm`, read with cadmorph's VTK reader, agree to every digit the
+/// files hold.
+#[test]
+fn lattice_vtk_files_match_their_parameters() {
+    use cadmorph_mesh::format::vtk::VtkLegacy;
+    use cadmorph_morph::{prm, Ffd, Parameters};
+    // The file holds %g of the f32 value; so must we.
+    let digits = |x: f64| format!("{:.5e}", x as f32 as f64).parse::<f64>().unwrap();
+    let same = |file: &str, ours: &[Point3<f64>]| {
+        let v = VtkLegacy::parse(&text(file)).unwrap();
+        assert_eq!(v.points.len(), ours.len(), "{file}");
+        for (i, (p, q)) in v.points.iter().zip(ours).enumerate() {
+            for k in 0..3 {
+                let (a, b) = (p[k], digits(q[k]));
+                assert!((a - b).abs() <= 1e-9 * (1.0 + b.abs()), "{file} point {i}: file {a}, ours {} ({b})", q[k]);
+            }
+        }
+    };
+    let ffd = Ffd::from_prm(&text("parameters_test_ffd_sphere.prm")).unwrap();
+    let [l, m, n] = ffd.n_control_points();
+    let fortran = |pts: Vec<Point3<f64>>| -> Vec<Point3<f64>> {
+        let mut out = Vec::new();
+        for k in 0..n {
+            for j in 0..m {
+                for i in 0..l {
+                    out.push(pts[(i * m + j) * n + k]);
+                }
+            }
+        }
+        out
+    };
+    same("box_test_sphere.vtk", &ffd.control_points(false));
+    same("box_test_sphere_deformed.vtk", &ffd.control_points(true));
+    same("box_test_sphere_true_version5.vtk", &fortran(ffd.control_points(false)));
+    same("box_test_sphere_true_version6.vtk", &fortran(ffd.control_points(false)));
+    same("box_modified_test_sphere_true_version5.vtk", &fortran(ffd.control_points(true)));
+    same("box_modified_test_sphere_true_version6.vtk", &fortran(ffd.control_points(true)));
+    let Parameters::Rbf(rbf) = prm::read(&text("parameters_rbf_cube.prm")).unwrap() else { panic!("not RBF") };
+    same("box_test_cube.vtk", &rbf.original);
+    same("box_test_cube_deformed.vtk", &rbf.deformed);
+}
