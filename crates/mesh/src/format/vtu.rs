@@ -64,13 +64,14 @@ pub struct Vtu {
 }
 
 fn attr<'a>(tag: &'a str, key: &str) -> Option<(&'a str, Range<usize>)> {
-    let pat = format!("{key}=\"");
+    let pat = format!("{key}=");
     let mut from = 0;
     while let Some(i) = tag[from..].find(&pat) {
         let at = from + i;
-        if at == 0 || tag.as_bytes()[at - 1].is_ascii_whitespace() {
-            let s = at + pat.len();
-            let e = s + tag[s..].find('"')?;
+        let q = tag.as_bytes().get(at + pat.len()).copied();
+        if (at == 0 || tag.as_bytes()[at - 1].is_ascii_whitespace()) && matches!(q, Some(b'"') | Some(b'\'')) {
+            let s = at + pat.len() + 1;
+            let e = s + tag[s..].find(q? as char)?;
             return Some((&tag[s..e], s..e));
         }
         from = at + pat.len();
