@@ -304,3 +304,34 @@ fn rbf_volume_morph_of_the_bump_passes_checkmesh() {
     compare(&case, "after RBF volume morph");
     let _ = std::fs::remove_dir_all(case);
 }
+
+/// OpenFOAM's own VTK XML writer (`foamToVTK`: single-quoted attributes, inline base64,
+/// `UInt64` headers, Float32 points) read by cadmorph: the same points as the polyMesh (to
+/// f32) and one hexahedron per cell; a morph written back is read again exactly.
+#[test]
+#[ignore = "needs OpenFOAM (tests/mesh/setup.sh)"]
+fn foam_to_vtk_output_reads() {
+    use cadmorph_mesh::format::vtu::Vtu;
+    use cadmorph_mesh::CellKind;
+    let case = temp("vtk");
+    make_case(&case);
+    let log = foam(&case, "foamToVTK -noZero");
+    assert!(log.contains("End"), "{log}");
+    let vtu = std::fs::read_dir(case.join("VTK")).unwrap().flatten().map(|e| e.path()).find(|p| p.is_dir()).map(|d| d.join("internal.vtu")).unwrap();
+    let bytes = std::fs::read(&vtu).unwrap();
+    let mut v = Vtu::parse(&bytes).unwrap();
+    let mesh = PolyMesh::read(&case).unwrap();
+    assert_eq!(v.points.len(), mesh.points.len());
+    for (p, q) in v.points.iter().zip(&mesh.points) {
+        assert_eq!(*p, q.map(|x| x as f32 as f64));
+    }
+    assert_eq!(v.cells.iter().filter(|c| c.kind == CellKind::Hexahedron).count(), mesh.n_cells());
+    assert_eq!(v.write(), bytes);
+    for p in &mut v.points {
+        p.y *= 1.5;
+    }
+    let back = Vtu::parse(&v.write()).unwrap();
+    assert_eq!(back.points, v.points.iter().map(|p| p.map(|x| x as f32 as f64)).collect::<Vec<_>>());
+    assert_eq!(back.cells, v.cells);
+    let _ = std::fs::remove_dir_all(case);
+}
