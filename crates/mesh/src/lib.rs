@@ -74,6 +74,7 @@ mod from_cells;
 pub mod morph;
 mod nodelines;
 pub mod quality;
+pub mod tessellate;
 mod text;
 pub mod volume;
 

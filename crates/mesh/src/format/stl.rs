@@ -314,6 +314,57 @@ impl Stl {
         s
     }
 
+    /// A new ASCII STL of `triangles` (indices into `points`) with one `solid` per entry
+    /// of `solids` (each naming a range of `triangles`, in order).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::OutOfRange`] for a triangle corner that is not a point;
+    /// [`Error::Topology`] when the solids do not cover the triangles in order.
+    pub fn from_triangles(points: Vec<Point3<f64>>, triangles: Vec<[usize; 3]>, solids: Vec<Solid>) -> Result<Stl> {
+        check_finite(&points)?;
+        for (i, t) in triangles.iter().enumerate() {
+            if let Some(&v) = t.iter().find(|&&v| v >= points.len()) {
+                return Err(Error::OutOfRange { what: "triangle", index: i, target_kind: "point", target: v as i64, count: points.len() });
+            }
+        }
+        let mut next = 0;
+        for s in &solids {
+            if s.triangles.start != next {
+                return Err(Error::Topology(format!("solid {:?} starts at triangle {}, expected {next}", s.name, s.triangles.start)));
+            }
+            next = s.triangles.end;
+        }
+        if next != triangles.len() {
+            return Err(Error::Topology(format!("the solids cover {next} of {} triangles", triangles.len())));
+        }
+        let mut stl = Stl { original: points.clone(), points, triangles, solids, storage: Storage::Ascii { text: String::new(), facets: Vec::new() } };
+        let text = stl.write_ascii();
+        let facets = Stl::parse_ascii(&text)?.storage;
+        stl.storage = facets;
+        Ok(stl)
+    }
+
+    /// An ASCII STL of the current triangles, one `solid … endsolid` per solid, shortest
+    /// round-trip numbers, normals recomputed.
+    pub fn write_ascii(&self) -> String {
+        let mut s = String::new();
+        for solid in &self.solids {
+            s += &format!("solid {}\n", solid.name);
+            for t in &self.triangles[solid.triangles.clone()] {
+                let [a, b, c] = t.map(|i| self.points[i]);
+                let n = normal(&a, &b, &c);
+                s += &format!("  facet normal {} {} {}\n    outer loop\n", py_str(n.x), py_str(n.y), py_str(n.z));
+                for p in [a, b, c] {
+                    s += &format!("      vertex {} {} {}\n", py_str(p.x), py_str(p.y), py_str(p.z));
+                }
+                s += "    endloop\n  endfacet\n";
+            }
+            s += &format!("endsolid {}\n", solid.name);
+        }
+        s
+    }
+
     /// A binary STL of the current triangles (80-byte header from the first solid's name).
     pub fn write_binary(&self) -> Vec<u8> {
         let mut out = vec![0u8; 80];
