@@ -22,7 +22,9 @@ use cadmorph_morph::Deformation;
 fn peak_mb() -> f64 {
     std::fs::read_to_string("/proc/self/status")
         .ok()
-        .and_then(|s| s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok()))
+        .and_then(|s| {
+            s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+        })
         .map(|kb| kb / 1024.0)
         .unwrap_or(0.0)
 }
@@ -70,7 +72,12 @@ fn main() {
                 p.z += 1e-12;
             }
             m.write(Path::new(arg(3))).unwrap_or_else(|e| fail(&e));
-            println!("{{\"op\":\"readwrite\",\"seconds\":{},\"points\":{},\"peak_mb\":{}}}", t.elapsed().as_secs_f64(), m.points.len(), peak_mb());
+            println!(
+                "{{\"op\":\"readwrite\",\"seconds\":{},\"points\":{},\"peak_mb\":{}}}",
+                t.elapsed().as_secs_f64(),
+                m.points.len(),
+                peak_mb()
+            );
         }
         Some("vtu") => {
             let t = Instant::now();
@@ -80,12 +87,18 @@ fn main() {
                 p.z += 1e-12;
             }
             std::fs::write(arg(3), v.write()).unwrap_or_else(|e| fail(&e));
-            println!("{{\"op\":\"vtu\",\"seconds\":{},\"points\":{},\"peak_mb\":{}}}", t.elapsed().as_secs_f64(), v.points.len(), peak_mb());
+            println!(
+                "{{\"op\":\"vtu\",\"seconds\":{},\"points\":{},\"peak_mb\":{}}}",
+                t.elapsed().as_secs_f64(),
+                v.points.len(),
+                peak_mb()
+            );
         }
         Some("rbf") => {
             let m = PolyMesh::read(Path::new(arg(2))).unwrap_or_else(|e| fail(&e));
             let max: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(20_000);
-            let cons = patch_constraints(&m, &[("bump", PatchMotion::Follow(&Lift)), ("sides", PatchMotion::Slip)]).unwrap_or_else(|e| fail(&e));
+            let cons = patch_constraints(&m, &[("bump", PatchMotion::Follow(&Lift)), ("sides", PatchMotion::Slip)])
+                .unwrap_or_else(|e| fail(&e));
             let opts = BoundaryMorph { max_centres: max, ..BoundaryMorph::wendland(0.6) };
             let t = Instant::now();
             let (disp, r) = opts.solve(&m.points, &cons).unwrap_or_else(|e| fail(&e));

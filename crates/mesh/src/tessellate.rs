@@ -29,7 +29,8 @@ pub struct Watertight {
 /// Sides of two faces that are the same curve: the side curves agree at 5 points (either
 /// direction) to `tol`. Each pair is listed once, lower face first.
 pub fn shared_sides(faces: &[NurbsSurface], tol: f64) -> Vec<(usize, Side, usize, Side)> {
-    let samples = |f: &NurbsSurface, s: Side| -> Vec<Point3<f64>> { (0..5).map(|k| side_point(f, s, k as f64 / 4.0)).collect() };
+    let samples =
+        |f: &NurbsSurface, s: Side| -> Vec<Point3<f64>> { (0..5).map(|k| side_point(f, s, k as f64 / 4.0)).collect() };
     let mut out = Vec::new();
     for a in 0..faces.len() {
         for sa in Side::ALL {
@@ -89,7 +90,11 @@ fn chord_params(points: &[Point3<f64>], ids: &[usize]) -> Vec<f64> {
 ///
 /// [`Error::Topology`] when a listed seam's sides do not meet within `10·tol` at their
 /// ends, or a face index is out of range.
-pub fn tessellate_watertight(faces: &[NurbsSurface], seams: &[(usize, Side, usize, Side)], tol: f64) -> Result<Watertight> {
+pub fn tessellate_watertight(
+    faces: &[NurbsSurface],
+    seams: &[(usize, Side, usize, Side)],
+    tol: f64,
+) -> Result<Watertight> {
     let mut points = Vec::new();
     let mut triangles: Vec<[usize; 3]> = Vec::new();
     let mut face_of = Vec::new();
@@ -135,7 +140,10 @@ pub fn tessellate_watertight(faces: &[NurbsSurface], seams: &[(usize, Side, usiz
     let mut inserts: std::collections::HashMap<(usize, usize), Vec<(f64, usize)>> = std::collections::HashMap::new();
     for &(a, sa, b, sb) in seams {
         if a >= faces.len() || b >= faces.len() {
-            return Err(Error::Topology(format!("seam ({a}, {sa:?}, {b}, {sb:?}): no such face (there are {})", faces.len())));
+            return Err(Error::Topology(format!(
+                "seam ({a}, {sa:?}, {b}, {sb:?}): no such face (there are {})",
+                faces.len()
+            )));
         }
         let la = sides[a][side_index(sa)].clone();
         let mut lb = sides[b][side_index(sb)].clone();
@@ -143,36 +151,43 @@ pub fn tessellate_watertight(faces: &[NurbsSurface], seams: &[(usize, Side, usiz
         if (points[a0] - points[b1]).norm() < (points[a0] - points[b0]).norm() {
             lb.reverse();
         }
-        let gap = (points[la[0]] - points[lb[0]]).norm().max((points[la[la.len() - 1]] - points[lb[lb.len() - 1]]).norm());
+        let gap =
+            (points[la[0]] - points[lb[0]]).norm().max((points[la[la.len() - 1]] - points[lb[lb.len() - 1]]).norm());
         if gap > 10.0 * tol {
-            return Err(Error::Topology(format!("seam ({a}, {sa:?}, {b}, {sb:?}): the sides end {gap:e} apart (more than 10 × tol)")));
+            return Err(Error::Topology(format!(
+                "seam ({a}, {sa:?}, {b}, {sb:?}): the sides end {gap:e} apart (more than 10 × tol)"
+            )));
         }
         let ta = chord_params(&points, &la);
         let tb = chord_params(&points, &lb);
         // Vertices of one list that coincide with one of the other are merged; the others
         // are inserted into the other's segment that contains them.
-        let mut place = |from: &[usize], tf: &[f64], into: &[usize], ti: &[f64], parent: &mut Vec<usize>, merge: bool| {
-            for (k, &v) in from.iter().enumerate() {
-                let t = tf[k];
-                let j = ti.partition_point(|&x| x < t);
-                let near = [j.saturating_sub(1), j.min(ti.len() - 1)].into_iter().min_by(|&x, &y| (points[into[x]] - points[v]).norm().total_cmp(&(points[into[y]] - points[v]).norm()));
-                if let Some(n) = near {
-                    if (points[into[n]] - points[v]).norm() <= tol * 1e-3 + 1e-12 * (1.0 + points[v].coords.norm()) {
-                        if merge {
-                            let (r1, r2) = (find(parent, into[n]), find(parent, v));
-                            parent[r2] = r1;
+        let mut place =
+            |from: &[usize], tf: &[f64], into: &[usize], ti: &[f64], parent: &mut Vec<usize>, merge: bool| {
+                for (k, &v) in from.iter().enumerate() {
+                    let t = tf[k];
+                    let j = ti.partition_point(|&x| x < t);
+                    let near = [j.saturating_sub(1), j.min(ti.len() - 1)].into_iter().min_by(|&x, &y| {
+                        (points[into[x]] - points[v]).norm().total_cmp(&(points[into[y]] - points[v]).norm())
+                    });
+                    if let Some(n) = near {
+                        if (points[into[n]] - points[v]).norm() <= tol * 1e-3 + 1e-12 * (1.0 + points[v].coords.norm())
+                        {
+                            if merge {
+                                let (r1, r2) = (find(parent, into[n]), find(parent, v));
+                                parent[r2] = r1;
+                            }
+                            continue;
                         }
+                    }
+                    if j == 0 || j >= ti.len() {
                         continue;
                     }
+                    let (p, q) = (into[j - 1], into[j]);
+                    let frac = (t - ti[j - 1]) / (ti[j] - ti[j - 1]).max(f64::MIN_POSITIVE);
+                    inserts.entry((p, q)).or_default().push((frac, v));
                 }
-                if j == 0 || j >= ti.len() {
-                    continue;
-                }
-                let (p, q) = (into[j - 1], into[j]);
-                let frac = (t - ti[j - 1]) / (ti[j] - ti[j - 1]).max(f64::MIN_POSITIVE);
-                inserts.entry((p, q)).or_default().push((frac, v));
-            }
-        };
+            };
         place(&lb, &tb, &la, &ta, &mut parent, true);
         place(&la, &ta, &lb, &tb, &mut parent, false);
     }

@@ -317,7 +317,13 @@ fn foam_to_vtk_output_reads() {
     make_case(&case);
     let log = foam(&case, "foamToVTK -noZero");
     assert!(log.contains("End"), "{log}");
-    let vtu = std::fs::read_dir(case.join("VTK")).unwrap().flatten().map(|e| e.path()).find(|p| p.is_dir()).map(|d| d.join("internal.vtu")).unwrap();
+    let vtu = std::fs::read_dir(case.join("VTK"))
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .find(|p| p.is_dir())
+        .map(|d| d.join("internal.vtu"))
+        .unwrap();
     let bytes = std::fs::read(&vtu).unwrap();
     let mut v = Vtu::parse(&bytes).unwrap();
     let mesh = PolyMesh::read(&case).unwrap();

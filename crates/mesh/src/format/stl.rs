@@ -325,20 +325,35 @@ impl Stl {
         check_finite(&points)?;
         for (i, t) in triangles.iter().enumerate() {
             if let Some(&v) = t.iter().find(|&&v| v >= points.len()) {
-                return Err(Error::OutOfRange { what: "triangle", index: i, target_kind: "point", target: v as i64, count: points.len() });
+                return Err(Error::OutOfRange {
+                    what: "triangle",
+                    index: i,
+                    target_kind: "point",
+                    target: v as i64,
+                    count: points.len(),
+                });
             }
         }
         let mut next = 0;
         for s in &solids {
             if s.triangles.start != next {
-                return Err(Error::Topology(format!("solid {:?} starts at triangle {}, expected {next}", s.name, s.triangles.start)));
+                return Err(Error::Topology(format!(
+                    "solid {:?} starts at triangle {}, expected {next}",
+                    s.name, s.triangles.start
+                )));
             }
             next = s.triangles.end;
         }
         if next != triangles.len() {
             return Err(Error::Topology(format!("the solids cover {next} of {} triangles", triangles.len())));
         }
-        let mut stl = Stl { original: points.clone(), points, triangles, solids, storage: Storage::Ascii { text: String::new(), facets: Vec::new() } };
+        let mut stl = Stl {
+            original: points.clone(),
+            points,
+            triangles,
+            solids,
+            storage: Storage::Ascii { text: String::new(), facets: Vec::new() },
+        };
         let text = stl.write_ascii();
         let facets = Stl::parse_ascii(&text)?.storage;
         stl.storage = facets;
