@@ -35,7 +35,9 @@
 //! and refuses a result that fails a check it did not fail before;
 //! [`quality::Quality`] is OpenFOAM `checkMesh`'s geometry report (same formulas,
 //! agreeing to 1e-13 relative on the test meshes); [`volume`] carries a boundary
-//! displacement into the interior with a Wendland RBF and greedy centre selection.
+//! displacement into the interior with a Wendland RBF and greedy centre selection;
+//! [`tessellate`] turns NURBS faces and their shared sides into a watertight triangle
+//! mesh (written as an STL with one solid per face, [`format::stl::Stl::from_triangles`]).
 //!
 //! # Crates measured
 //!
