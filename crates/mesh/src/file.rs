@@ -148,6 +148,25 @@ impl MeshFile {
     /// [`Error::Io`] naming the path; [`Error::CountMismatch`] when the point count
     /// changed.
     pub fn write(&self, path: &Path) -> Result<()> {
+        let read = match self {
+            MeshFile::Foam(_) => self.points().len(),
+            MeshFile::Unv(m) => m.labels.len(),
+            MeshFile::Dyna(m) => m.ids.len(),
+            MeshFile::Mdpa(m) => m.ids.len(),
+            MeshFile::Elmer(m) => m.ids.len(),
+            MeshFile::Stl(m) => m.n_points_read(),
+            MeshFile::Vtk(m) => m.n_points_read(),
+            MeshFile::Obj(m) => m.n_points_read(),
+            MeshFile::Msh(m) => m.tags.len(),
+            MeshFile::Vtu(m) => m.n_points_read(),
+        };
+        if read != self.points().len() {
+            return Err(Error::CountMismatch {
+                what: format!("points of {} (a morph keeps the count)", path.display()),
+                expected: read,
+                found: self.points().len(),
+            });
+        }
         let text = match self {
             MeshFile::Foam(m) => {
                 let dir = if path.join("constant").is_dir() || path.join("system").is_dir() {

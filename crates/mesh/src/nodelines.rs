@@ -18,6 +18,11 @@ pub(crate) struct NodeLines {
 }
 
 impl NodeLines {
+    /// Number of node records read.
+    pub fn len(&self) -> usize {
+        self.records.len()
+    }
+
     /// The text with every node whose point differs (bitwise) from the one read, or every
     /// node when `all` is set, replaced by `format(index, point, original record)`.
     pub fn write(
@@ -29,7 +34,9 @@ impl NodeLines {
         let mut out = String::with_capacity(self.text.len() + self.text.len() / 8);
         let mut at = 0;
         for (i, (range, orig)) in self.records.iter().enumerate() {
-            let p = &points[i];
+            // A point list shorter than the file's (not possible through `MeshFile`, which
+            // refuses a changed count) keeps the missing records as read.
+            let Some(p) = points.get(i) else { break };
             let same = p.iter().zip(orig.iter()).all(|(a, b)| a.to_bits() == b.to_bits());
             if all || !same {
                 out.push_str(&self.text[at..range.start]);

@@ -51,7 +51,7 @@ fn openfoam_points_like_pygem() {
     let input = std::fs::read(data("test_openFOAM")).unwrap();
     let mut f = FoamPoints::parse(&input).unwrap();
     assert_eq!(f.points.len(), 21812);
-    assert_eq!(f.write(), input, "unchanged write is the input");
+    assert_eq!(f.write().unwrap(), input, "unchanged write is the input");
     let p = &mut f.points;
     set(p, 0, [-14., 1.55, 0.2]);
     set(p, 1, [-14.3, 2.55, 0.3]);
@@ -64,7 +64,7 @@ fn openfoam_points_like_pygem() {
     set(p, -1, [236.3, 185.7, 0.06]);
     let expected = std::fs::read(data("test_openFOAM_out_true")).unwrap();
     assert!(f.write_pygem().unwrap() == expected, "PyGeM-style output differs from test_openFOAM_out_true");
-    let ours = FoamPoints::parse(&f.write()).unwrap();
+    let ours = FoamPoints::parse(&f.write().unwrap()).unwrap();
     assert_points_near(&ours.points, &FoamPoints::parse(&expected).unwrap().points);
 }
 

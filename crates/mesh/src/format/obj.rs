@@ -100,6 +100,11 @@ impl Obj {
         Ok(Obj { points, cells, groups, face_groups, lines: NodeLines { text: text.to_string(), records } })
     }
 
+    /// Number of vertices read.
+    pub(crate) fn n_points_read(&self) -> usize {
+        self.lines.len()
+    }
+
     /// The file, with the `v` lines of moved vertices written anew (shortest round-trip
     /// numbers; a `w` or colour after z kept), the rest as read.
     pub fn write(&self) -> String {

@@ -231,6 +231,11 @@ impl Stl {
         })
     }
 
+    /// Number of (merged) points read.
+    pub(crate) fn n_points_read(&self) -> usize {
+        self.original.len()
+    }
+
     fn moved(&self) -> Vec<bool> {
         let mv: Vec<bool> = self
             .points
@@ -238,7 +243,7 @@ impl Stl {
             .zip(&self.original)
             .map(|(a, b)| a.iter().zip(b.iter()).any(|(x, y)| x.to_bits() != y.to_bits()))
             .collect();
-        self.triangles.iter().map(|t| t.iter().any(|&v| mv[v])).collect()
+        self.triangles.iter().map(|t| t.iter().any(|&v| mv.get(v).copied().unwrap_or(false))).collect()
     }
 
     /// The file in its own format: unchanged facets as read, facets with a moved vertex

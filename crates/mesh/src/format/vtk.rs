@@ -241,6 +241,11 @@ impl VtkLegacy {
         Ok(VtkLegacy { original: points.clone(), points, cells, dataset, text: text.to_string(), block })
     }
 
+    /// Number of points read.
+    pub(crate) fn n_points_read(&self) -> usize {
+        self.original.len()
+    }
+
     fn write_with(&self, always: bool, f: impl Fn(f64) -> String) -> String {
         if !always && self.points == self.original {
             return self.text.clone();

@@ -109,6 +109,11 @@ fn decode_values(raw: &[u8], ty: &str) -> Result<Vec<f64>> {
 }
 
 impl Vtu {
+    /// Number of points read.
+    pub(crate) fn n_points_read(&self) -> usize {
+        self.original.len()
+    }
+
     fn header_len(&self) -> usize {
         if self.header64 {
             8

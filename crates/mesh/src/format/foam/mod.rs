@@ -316,7 +316,7 @@ impl PolyMesh {
         };
         let mut p = src.points.clone();
         p.points.clone_from(&self.points);
-        let bytes = p.try_write()?;
+        let bytes = p.write()?;
         let (name, bytes) = if src.points_gz { ("points.gz", file::gzip(&bytes)) } else { ("points", bytes) };
         let unchanged = p.points == src.points.points;
         Ok(src

@@ -28,9 +28,9 @@ enum Layout {
 /// use cadmorph_mesh::format::foam::FoamPoints;
 /// let text = "FoamFile { version 2.0; format ascii; class vectorField; object points; }\n2\n(\n(0 0 0)\n(1 0 0)\n)\n";
 /// let mut f = FoamPoints::parse(text.as_bytes())?;
-/// assert_eq!(f.write(), text.as_bytes());
+/// assert_eq!(f.write()?, text.as_bytes());
 /// f.points[1].y = 0.5;
-/// assert!(String::from_utf8(f.write()).unwrap().contains("(1.0 0.5 0.0)"));
+/// assert!(String::from_utf8(f.write()?).unwrap().contains("(1.0 0.5 0.0)"));
 /// # Ok::<(), cadmorph_mesh::Error>(())
 /// ```
 #[derive(Debug, Clone, PartialEq)]
@@ -128,20 +128,10 @@ impl FoamPoints {
     /// The file with the current points: unchanged entries as read; moved ones as
     /// `(x y z)` with shortest round-trip numbers (ASCII) or in place (binary).
     ///
-    /// # Panics
-    ///
-    /// Never for a mesh whose point count was not changed; a changed count is refused by
-    /// [`FoamPoints::try_write`].
-    pub fn write(&self) -> Vec<u8> {
-        self.try_write().unwrap_or_default()
-    }
-
-    /// As [`FoamPoints::write`].
-    ///
     /// # Errors
     ///
     /// [`Error::CountMismatch`] when points were added or removed.
-    pub fn try_write(&self) -> Result<Vec<u8>> {
+    pub fn write(&self) -> Result<Vec<u8>> {
         self.write_impl(false)
     }
 
@@ -150,7 +140,7 @@ impl FoamPoints {
     ///
     /// # Errors
     ///
-    /// As [`FoamPoints::try_write`].
+    /// As [`FoamPoints::write`].
     pub fn write_pygem(&self) -> Result<Vec<u8>> {
         self.write_impl(true)
     }
