@@ -38,6 +38,7 @@ use std::path::Path;
 pub use cadmorph_blade as blade;
 pub use cadmorph_brep as brep;
 pub use cadmorph_iges as iges;
+pub use cadmorph_mesh as mesh;
 pub use cadmorph_model as model;
 pub use cadmorph_morph as morph;
 pub use cadmorph_nurbs as nurbs;

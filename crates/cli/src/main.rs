@@ -13,6 +13,7 @@ mod eval;
 mod grid;
 mod info;
 mod limits;
+mod mesh;
 mod morph;
 mod params;
 mod progress;
@@ -44,6 +45,9 @@ enum Command {
         #[command(subcommand)]
         command: blade::BladeCommand,
     },
+    /// Surface and volume meshes: morph, check.
+    #[command(subcommand)]
+    Mesh(mesh::MeshCommand),
     /// Units, entity counts and faces of an IGES or STEP file.
     Info(info::Args),
     /// Points and normals of every face on an n × n parameter grid.
@@ -84,6 +88,7 @@ fn main() -> ExitCode {
     let _ = signal_hook::flag::register(signal_hook::consts::SIGXFSZ, std::sync::Arc::default());
     let result = match cli.command {
         Command::Blade { command } => blade::run(command),
+        Command::Mesh(cmd) => mesh::run(cmd),
         Command::Info(a) => info::run(a),
         Command::Sample(a) => sample::run(a),
         Command::Seams(a) => seams::run(a),

@@ -1,0 +1,127 @@
+//! `cadmorph mesh …`: morph and check surface and volume meshes (crate `cadmorph-mesh`).
+//!
+//! ```text
+//! cadmorph mesh morph IN -o OUT --ffd|--rbf|--idw PARAMS [--allow-degrade] [--json]
+//! cadmorph mesh check IN [--json]
+//! ```
+//!
+//! `IN`/`OUT` are an OpenFOAM case or `polyMesh` directory, or a `.unv`, `.k`, `.mdpa`,
+//! `.nodes` file; `OUT` is written in the format of `IN`, only after the morph passed the
+//! quality check (volume meshes), atomically.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context, Result};
+use cadmorph::mesh::morph::morph_file;
+use cadmorph::mesh::quality::Quality;
+use cadmorph::mesh::MeshFile;
+use cadmorph::morph::{Deformation, Parameters};
+use clap::{Args, Subcommand};
+
+/// `cadmorph mesh` subcommands.
+#[derive(Subcommand)]
+pub enum MeshCommand {
+    /// Move every node of a mesh by an FFD, RBF or IDW; volume meshes are checked before
+    /// and after, and a morph that inverts cells is refused.
+    Morph(MorphArgs),
+    /// Mesh quality as OpenFOAM's checkMesh reports it.
+    Check {
+        /// Mesh file or OpenFOAM case / polyMesh directory.
+        input: PathBuf,
+        /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+/// Arguments of `cadmorph mesh morph`.
+#[derive(Args)]
+pub struct MorphArgs {
+    /// Mesh file or OpenFOAM case / polyMesh directory.
+    pub input: PathBuf,
+    /// Output (same format as the input).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// FFD parameters (PyGeM .prm or TOML).
+    #[arg(long, group = "law")]
+    pub ffd: Option<PathBuf>,
+    /// RBF parameters (PyGeM .prm or TOML).
+    #[arg(long, group = "law")]
+    pub rbf: Option<PathBuf>,
+    /// IDW parameters (PyGeM .prm or TOML).
+    #[arg(long, group = "law")]
+    pub idw: Option<PathBuf>,
+    /// Write even if the morph inverts or degrades cells (the report says where).
+    #[arg(long)]
+    pub allow_degrade: bool,
+    /// Print the before/after quality as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn law(path: &Path, expect: &str) -> Result<Box<dyn Deformation + Send>> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let is_toml = path.extension().is_some_and(|e| e == "toml");
+    let params = if is_toml { Parameters::from_toml(&text) } else { Parameters::from_prm(&text) }
+        .with_context(|| format!("reading {}", path.display()))?;
+    let kind = match params {
+        Parameters::Ffd(_) => "ffd",
+        Parameters::Rbf(_) => "rbf",
+        Parameters::Idw(_) => "idw",
+    };
+    if kind != expect {
+        bail!("{} holds {kind} parameters, but --{expect} was given", path.display());
+    }
+    params.build().with_context(|| format!("building the morph of {}", path.display()))
+}
+
+/// Run a `cadmorph mesh` subcommand.
+pub fn run(cmd: MeshCommand) -> Result<()> {
+    match cmd {
+        MeshCommand::Check { input, json } => {
+            let file = MeshFile::read(&input).with_context(|| format!("reading {}", input.display()))?;
+            let Some(mesh) = file.volume_mesh()? else {
+                bail!("{} has no volume cells to check", input.display());
+            };
+            let q = Quality::of(&mesh);
+            if json {
+                println!("{}", q.to_json());
+            } else {
+                print!("{}", q.table());
+            }
+            if !q.ok() {
+                bail!("{}: failed {} mesh check(s)", input.display(), q.failed.len());
+            }
+            Ok(())
+        }
+        MeshCommand::Morph(a) => {
+            let (path, kind) = match (&a.ffd, &a.rbf, &a.idw) {
+                (Some(p), _, _) => (p, "ffd"),
+                (_, Some(p), _) => (p, "rbf"),
+                (_, _, Some(p)) => (p, "idw"),
+                _ => bail!("one of --ffd, --rbf, --idw is needed"),
+            };
+            let d = law(path, kind)?;
+            let mut file = MeshFile::read(&a.input).with_context(|| format!("reading {}", a.input.display()))?;
+            let report = morph_file(&mut file, d.as_ref(), a.allow_degrade)
+                .with_context(|| format!("morphing {}", a.input.display()))?;
+            file.write(&a.output).with_context(|| format!("writing {}", a.output.display()))?;
+            match (&report, a.json) {
+                (Some(r), true) => println!("{}", serde_json::to_string_pretty(r)?),
+                (Some(r), false) => {
+                    println!("before:\n{}\nafter:\n{}", r.before.table(), r.after.table());
+                    if r.degraded() {
+                        eprintln!("warning: the morph degraded the mesh (written because of --allow-degrade)");
+                    }
+                }
+                (None, _) => println!(
+                    "{} -> {}: {} nodes moved (no volume cells to check)",
+                    a.input.display(),
+                    a.output.display(),
+                    file.points().len()
+                ),
+            }
+            Ok(())
+        }
+    }
+}

@@ -1,0 +1,124 @@
+//! The cadmorph side of `benches/mesh/run.sh`: one operation on an OpenFOAM case, timed,
+//! printed as one JSON line (seconds, peak resident memory in MB).
+//!
+//! ```text
+//! mesh_bench quality CASE          PolyMesh::read, then Quality::of (both timed)
+//! mesh_bench readwrite CASE OUT    PolyMesh::read + write of a moved mesh (timed together)
+//! mesh_bench vtu FILE OUT          Vtu read + write of a moved mesh (timed together)
+//! mesh_bench rbf CASE CENTRES      boundary → interior RBF morph of the bump patch,
+//!                                  Wendland C2 with greedy centres (at most CENTRES)
+//! ```
+
+use std::path::Path;
+use std::time::Instant;
+
+use cadmorph_mesh::format::foam::PolyMesh;
+use cadmorph_mesh::format::vtu::Vtu;
+use cadmorph_mesh::quality::Quality;
+use cadmorph_mesh::volume::{patch_constraints, BoundaryMorph, PatchMotion};
+use cadmorph_morph::math::{Point3, Vector3};
+use cadmorph_morph::Deformation;
+
+fn peak_mb() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+        })
+        .map(|kb| kb / 1024.0)
+        .unwrap_or(0.0)
+}
+
+/// A smooth lift of the bump: y += 0.1 · sin(π x / 3)², the channel being 3 long.
+struct Lift;
+impl Deformation for Lift {
+    fn deform_point(&self, p: &Point3<f64>) -> Point3<f64> {
+        let s = (std::f64::consts::PI * p.x / 3.0).sin();
+        p + Vector3::new(0.0, 0.1 * s * s, 0.0)
+    }
+}
+
+fn fail(e: &dyn std::fmt::Display) -> ! {
+    eprintln!("mesh_bench: {e}");
+    std::process::exit(1)
+}
+
+fn main() {
+    let _ = rayon::ThreadPoolBuilder::new().use_current_thread().build_global();
+    let args: Vec<String> = std::env::args().collect();
+    let arg = |i: usize| args.get(i).map(String::as_str).unwrap_or_else(|| fail(&"missing argument"));
+    match args.get(1).map(String::as_str) {
+        Some("quality") => {
+            let t0 = Instant::now();
+            let m = PolyMesh::read(Path::new(arg(2))).unwrap_or_else(|e| fail(&e));
+            let t = Instant::now();
+            let q = Quality::of(&m);
+            let s = t.elapsed().as_secs_f64();
+            let total = t0.elapsed().as_secs_f64();
+            println!(
+                "{{\"op\":\"quality\",\"read_and_check_seconds\":{total},\"seconds\":{s},\"cells\":{},\"max_non_orth\":{},\"max_skewness\":{},\"ok\":{},\"peak_mb\":{}}}",
+                q.cells,
+                q.max_non_orthogonality.value,
+                q.max_skewness.value,
+                q.ok(),
+                peak_mb()
+            );
+        }
+        Some("readwrite") => {
+            let t = Instant::now();
+            let mut m = PolyMesh::read(Path::new(arg(2))).unwrap_or_else(|e| fail(&e));
+            // Move one point so that the points file is written anew.
+            if let Some(p) = m.points.first_mut() {
+                p.z += 1e-12;
+            }
+            m.write(Path::new(arg(3))).unwrap_or_else(|e| fail(&e));
+            println!(
+                "{{\"op\":\"readwrite\",\"seconds\":{},\"points\":{},\"peak_mb\":{}}}",
+                t.elapsed().as_secs_f64(),
+                m.points.len(),
+                peak_mb()
+            );
+        }
+        Some("vtu") => {
+            let t = Instant::now();
+            let bytes = std::fs::read(arg(2)).unwrap_or_else(|e| fail(&e));
+            let mut v = Vtu::parse(&bytes).unwrap_or_else(|e| fail(&e));
+            if let Some(p) = v.points.first_mut() {
+                p.z += 1e-12;
+            }
+            std::fs::write(arg(3), v.write()).unwrap_or_else(|e| fail(&e));
+            println!(
+                "{{\"op\":\"vtu\",\"seconds\":{},\"points\":{},\"peak_mb\":{}}}",
+                t.elapsed().as_secs_f64(),
+                v.points.len(),
+                peak_mb()
+            );
+        }
+        Some("rbf") => {
+            let m = PolyMesh::read(Path::new(arg(2))).unwrap_or_else(|e| fail(&e));
+            let max: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(20_000);
+            let cons = patch_constraints(&m, &[("bump", PatchMotion::Follow(&Lift)), ("sides", PatchMotion::Slip)])
+                .unwrap_or_else(|e| fail(&e));
+            let opts = BoundaryMorph { max_centres: max, ..BoundaryMorph::wendland(0.6) };
+            let t = Instant::now();
+            let (disp, r) = opts.solve(&m.points, &cons).unwrap_or_else(|e| fail(&e));
+            let s = t.elapsed().as_secs_f64();
+            let mut moved = m.clone();
+            for (p, d) in moved.points.iter_mut().zip(&disp) {
+                *p += d;
+            }
+            let q = Quality::of(&moved);
+            println!(
+                "{{\"op\":\"rbf\",\"seconds\":{s},\"cells\":{},\"constrained\":{},\"centres\":{},\"rounds\":{},\"max_rel_error\":{},\"negative_volumes\":{},\"peak_mb\":{}}}",
+                m.n_cells(),
+                r.constrained,
+                r.centres,
+                r.rounds,
+                r.max_relative_error,
+                q.negative_volumes,
+                peak_mb()
+            );
+        }
+        _ => fail(&"usage: mesh_bench quality CASE | readwrite CASE OUT | vtu FILE OUT | rbf CASE CENTRES"),
+    }
+}

@@ -1,0 +1,467 @@
+//! OpenFOAM `polyMesh` directories (OpenFOAM User Guide §5.1 "Mesh description"): `points`,
+//! `faces`, `owner`, `neighbour` and `boundary`, each ASCII or binary and optionally
+//! gzip-compressed (`points.gz` …). Every other file of the directory (zones, sets,
+//! `cellZones`, `meshModifiers`, anything unknown) is kept byte for byte, and so are the
+//! topology files: a morph rewrites `points` only.
+
+mod file;
+mod points;
+
+pub use file::Header;
+pub use points::FoamPoints;
+
+use std::path::{Path, PathBuf};
+
+use nalgebra::Point3;
+
+use crate::error::io;
+use crate::{Error, Result};
+
+/// A boundary patch (an entry of the `boundary` file).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Patch {
+    /// Patch name.
+    pub name: String,
+    /// `type` (`patch`, `wall`, `empty`, `symmetryPlane`, `cyclic`…).
+    pub kind: String,
+    /// `startFace`.
+    pub start_face: usize,
+    /// `nFaces`.
+    pub n_faces: usize,
+}
+
+/// An OpenFOAM polyhedral mesh: points, faces (as point lists, right-hand normal from
+/// owner to neighbour), owner and neighbour cells of each face, boundary patches.
+#[derive(Debug, Clone)]
+pub struct PolyMesh {
+    /// The points (the only part a morph changes).
+    pub points: Vec<Point3<f64>>,
+    face_offsets: Vec<usize>,
+    face_points: Vec<usize>,
+    owner: Vec<usize>,
+    neighbour: Vec<usize>,
+    n_cells: usize,
+    patches: Vec<Patch>,
+    source: Option<Source>,
+}
+
+/// The files a mesh was read from, kept for lossless writing.
+#[derive(Debug, Clone)]
+struct Source {
+    /// Every regular file of the directory: name and bytes as on disk.
+    files: Vec<(String, Vec<u8>)>,
+    /// The parsed points file and whether it was gzipped.
+    points: FoamPoints,
+    points_gz: bool,
+}
+
+/// Read `dir/name` or `dir/name.gz`: (decompressed bytes, was gzipped, file name).
+fn read_maybe_gz(dir: &Path, name: &str) -> Result<Option<(Vec<u8>, bool, PathBuf)>> {
+    let plain = dir.join(name);
+    let gz = dir.join(format!("{name}.gz"));
+    let (path, is_gz) = if plain.is_file() {
+        (plain, false)
+    } else if gz.is_file() {
+        (gz, true)
+    } else {
+        return Ok(None);
+    };
+    let bytes = std::fs::read(&path).map_err(io(&path))?;
+    let bytes = file::maybe_gunzip(bytes, is_gz).map_err(|e| e.in_file(&path))?;
+    Ok(Some((bytes, is_gz, path)))
+}
+
+impl PolyMesh {
+    /// Build a mesh from its parts, checking them as [`PolyMesh::read`] does.
+    ///
+    /// `faces` are point lists; internal faces come first (`neighbour.len()` of them),
+    /// then the boundary faces of each patch in turn.
+    ///
+    /// # Errors
+    ///
+    /// As the checks of [`PolyMesh::read`].
+    pub fn try_new(
+        points: Vec<Point3<f64>>,
+        faces: Vec<Vec<usize>>,
+        owner: Vec<usize>,
+        neighbour: Vec<usize>,
+        patches: Vec<Patch>,
+    ) -> Result<PolyMesh> {
+        let mut face_offsets = Vec::with_capacity(faces.len() + 1);
+        face_offsets.push(0);
+        let mut face_points = Vec::with_capacity(faces.len() * 4);
+        for f in &faces {
+            face_points.extend_from_slice(f);
+            face_offsets.push(face_points.len());
+        }
+        let n_cells = owner.iter().chain(neighbour.iter()).map(|&c| c + 1).max().unwrap_or(0);
+        let m = PolyMesh { points, face_offsets, face_points, owner, neighbour, n_cells, patches, source: None };
+        m.validate()?;
+        Ok(m)
+    }
+
+    /// Read a `polyMesh` directory (`case/constant/polyMesh`; a case directory is also
+    /// accepted).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Io`] for a missing file; any reader error, wrapped in
+    /// [`Error::InFile`] with the file's path; topology errors: a face point or cell
+    /// label out of range ([`Error::OutOfRange`], naming the face), list sizes that do
+    /// not agree ([`Error::CountMismatch`]), patches that do not cover the boundary faces
+    /// or a cell with fewer than four faces ([`Error::Topology`]).
+    pub fn read(dir: &Path) -> Result<PolyMesh> {
+        let dir =
+            if dir.join("constant/polyMesh").is_dir() { dir.join("constant/polyMesh") } else { dir.to_path_buf() };
+        let need = |name: &str| -> Result<(Vec<u8>, bool, PathBuf)> {
+            read_maybe_gz(&dir, name)?.ok_or_else(|| Error::Io {
+                path: dir.join(name),
+                source: std::io::Error::new(std::io::ErrorKind::NotFound, "no such file (nor .gz)"),
+            })
+        };
+        let (pb, points_gz, pp) = need("points")?;
+        let points = FoamPoints::parse(&pb).map_err(|e| e.in_file(&pp))?;
+        let (fb, _, fp) = need("faces")?;
+        let (_, face_offsets, flat) = file::face_list(&fb).map_err(|e| e.in_file(&fp))?;
+        let (ob, _, op) = need("owner")?;
+        let (oh, owner) = file::label_list(&ob).map_err(|e| e.in_file(&op))?;
+        let (nb, _, np) = need("neighbour")?;
+        let (_, neighbour) = file::label_list(&nb).map_err(|e| e.in_file(&np))?;
+        let (bb, _, bp) = need("boundary")?;
+        let patches = read_boundary(&bb).map_err(|e| e.in_file(&bp))?;
+
+        let np_ = points.points.len();
+        let mut face_points = Vec::with_capacity(flat.len());
+        for (k, &v) in flat.iter().enumerate() {
+            if v < 0 || v as usize >= np_ {
+                let face = face_offsets.partition_point(|&o| o <= k).saturating_sub(1);
+                return Err(Error::OutOfRange {
+                    what: "face",
+                    index: face,
+                    target_kind: "point",
+                    target: v,
+                    count: np_,
+                }
+                .in_file(&fp));
+            }
+            face_points.push(v as usize);
+        }
+        let to_cells = |v: Vec<i64>, what: &'static str, path: &Path| -> Result<Vec<usize>> {
+            v.into_iter()
+                .enumerate()
+                .map(|(i, c)| {
+                    if c < 0 || c > i32::MAX as i64 {
+                        Err(Error::OutOfRange { what, index: i, target_kind: "cell", target: c, count: 0 }
+                            .in_file(path))
+                    } else {
+                        Ok(c as usize)
+                    }
+                })
+                .collect()
+        };
+        let owner = to_cells(owner, "owner entry of face", &op)?;
+        let neighbour = to_cells(neighbour, "neighbour entry of face", &np)?;
+        let n_from_data = owner.iter().chain(neighbour.iter()).map(|&c| c + 1).max().unwrap_or(0);
+        // The owner note gives nCells; a label beyond it is out of range.
+        let n_cells = note_value(&oh.note, "nCells").unwrap_or(n_from_data);
+        if n_from_data > n_cells {
+            let (i, c) = owner
+                .iter()
+                .enumerate()
+                .chain(neighbour.iter().enumerate())
+                .find(|(_, &c)| c >= n_cells)
+                .map(|(i, &c)| (i, c))
+                .unwrap_or((0, 0));
+            return Err(Error::OutOfRange {
+                what: "face",
+                index: i,
+                target_kind: "cell",
+                target: c as i64,
+                count: n_cells,
+            }
+            .in_file(&op));
+        }
+        let mut files = Vec::new();
+        let entries = std::fs::read_dir(&dir).map_err(io(&dir))?;
+        for e in entries {
+            let e = e.map_err(io(&dir))?;
+            let p = e.path();
+            if p.is_file() {
+                let bytes = std::fs::read(&p).map_err(io(&p))?;
+                files.push((e.file_name().to_string_lossy().into_owned(), bytes));
+            }
+        }
+        files.sort();
+        let m = PolyMesh {
+            points: points.points.clone(),
+            face_offsets,
+            face_points,
+            owner,
+            neighbour,
+            n_cells,
+            patches,
+            source: Some(Source { files, points, points_gz }),
+        };
+        m.validate().map_err(|e| e.in_file(&dir))?;
+        Ok(m)
+    }
+
+    fn validate(&self) -> Result<()> {
+        let nf = self.n_faces();
+        if self.owner.len() != nf {
+            return Err(Error::CountMismatch {
+                what: "owner entries (one per face)".into(),
+                expected: nf,
+                found: self.owner.len(),
+            });
+        }
+        let ni = self.neighbour.len();
+        if ni > nf {
+            return Err(Error::CountMismatch {
+                what: "neighbour entries (at most one per face)".into(),
+                expected: nf,
+                found: ni,
+            });
+        }
+        for (i, f) in (0..nf).map(|i| (i, self.face(i))) {
+            if f.len() < 3 {
+                return Err(Error::Topology(format!("face {i} has {} points; a face needs 3 or more", f.len())));
+            }
+            if let Some(&p) = f.iter().find(|&&p| p >= self.points.len()) {
+                return Err(Error::OutOfRange {
+                    what: "face",
+                    index: i,
+                    target_kind: "point",
+                    target: p as i64,
+                    count: self.points.len(),
+                });
+            }
+        }
+        for i in 0..ni {
+            if self.neighbour[i] >= self.n_cells || self.owner[i] >= self.n_cells {
+                return Err(Error::OutOfRange {
+                    what: "face",
+                    index: i,
+                    target_kind: "cell",
+                    target: self.neighbour[i].max(self.owner[i]) as i64,
+                    count: self.n_cells,
+                });
+            }
+            if self.neighbour[i] == self.owner[i] {
+                return Err(Error::Topology(format!("internal face {i} has cell {} on both sides", self.owner[i])));
+            }
+        }
+        let mut next = ni;
+        for p in &self.patches {
+            if p.start_face != next {
+                return Err(Error::Topology(format!(
+                    "patch {:?} starts at face {}, but the previous boundary faces end at {next}",
+                    p.name, p.start_face
+                )));
+            }
+            next += p.n_faces;
+        }
+        if next != nf {
+            return Err(Error::Topology(format!("the patches cover faces up to {next}, but there are {nf} faces ({ni} internal): dangling boundary faces")));
+        }
+        let mut n_faces_of = vec![0u32; self.n_cells];
+        for &c in self.owner.iter().chain(&self.neighbour) {
+            n_faces_of[c] += 1;
+        }
+        if let Some((c, &k)) = n_faces_of.iter().enumerate().find(|(_, &k)| k < 4) {
+            return Err(Error::Topology(format!("cell {c} has {k} faces; a closed cell needs 4 or more")));
+        }
+        crate::text::check_finite(&self.points)
+    }
+
+    /// Number of faces.
+    pub fn n_faces(&self) -> usize {
+        self.face_offsets.len().saturating_sub(1)
+    }
+    /// Number of internal faces (faces with a neighbour).
+    pub fn n_internal_faces(&self) -> usize {
+        self.neighbour.len()
+    }
+    /// Number of cells.
+    pub fn n_cells(&self) -> usize {
+        self.n_cells
+    }
+    /// The point labels of face `i`.
+    pub fn face(&self, i: usize) -> &[usize] {
+        &self.face_points[self.face_offsets[i]..self.face_offsets[i + 1]]
+    }
+    /// Owner cell of each face.
+    pub fn owner(&self) -> &[usize] {
+        &self.owner
+    }
+    /// Neighbour cell of each internal face.
+    pub fn neighbour(&self) -> &[usize] {
+        &self.neighbour
+    }
+    /// The boundary patches.
+    pub fn patches(&self) -> &[Patch] {
+        &self.patches
+    }
+
+    /// The files of the written directory, relative names and bytes: the files as read,
+    /// with `points` (or `points.gz`) rewritten in its own format when a point moved; a
+    /// mesh made by [`PolyMesh::try_new`] gets fresh ASCII files.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::CountMismatch`] when the point count changed.
+    pub fn to_files(&self) -> Result<Vec<(PathBuf, Vec<u8>)>> {
+        let Some(src) = &self.source else {
+            return Ok(self.fresh_files());
+        };
+        let mut p = src.points.clone();
+        p.points.clone_from(&self.points);
+        let bytes = p.write()?;
+        let (name, bytes) = if src.points_gz { ("points.gz", file::gzip(&bytes)) } else { ("points", bytes) };
+        let unchanged = p.points == src.points.points;
+        Ok(src
+            .files
+            .iter()
+            .map(|(n, b)| {
+                if n == name && !unchanged {
+                    (PathBuf::from(n), bytes.clone())
+                } else {
+                    (PathBuf::from(n), b.clone())
+                }
+            })
+            .collect())
+    }
+
+    /// Write the mesh as the `polyMesh` directory `dir` (atomically: into a temporary
+    /// sibling, then renamed).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Io`] naming the path; as [`PolyMesh::to_files`].
+    pub fn write(&self, dir: &Path) -> Result<()> {
+        crate::atomic::write_dir_atomic(dir, &self.to_files()?)
+    }
+
+    fn fresh_files(&self) -> Vec<(PathBuf, Vec<u8>)> {
+        use std::fmt::Write;
+        let head = |class: &str, object: &str, note: &str| {
+            let note = if note.is_empty() { String::new() } else { format!("    note        \"{note}\";\n") };
+            format!("FoamFile\n{{\n    version     2.0;\n    format      ascii;\n    class       {class};\n{note}    location    \"constant/polyMesh\";\n    object      {object};\n}}\n\n")
+        };
+        let note = format!(
+            "nPoints:{} nCells:{} nFaces:{} nInternalFaces:{}",
+            self.points.len(),
+            self.n_cells,
+            self.n_faces(),
+            self.n_internal_faces()
+        );
+        let mut pts = head("vectorField", "points", "");
+        let _ = writeln!(pts, "{}\n(", self.points.len());
+        for p in &self.points {
+            let _ = writeln!(pts, "({} {} {})", p.x, p.y, p.z);
+        }
+        pts.push_str(")\n");
+        let mut faces = head("faceList", "faces", "");
+        let _ = writeln!(faces, "{}\n(", self.n_faces());
+        for i in 0..self.n_faces() {
+            let f = self.face(i);
+            let _ = write!(faces, "{}(", f.len());
+            for (k, p) in f.iter().enumerate() {
+                let _ = write!(faces, "{}{p}", if k > 0 { " " } else { "" });
+            }
+            faces.push_str(")\n");
+        }
+        faces.push_str(")\n");
+        let labels = |object: &str, v: &[usize]| {
+            let mut s = head("labelList", object, &note);
+            let _ = writeln!(s, "{}\n(", v.len());
+            for c in v {
+                let _ = writeln!(s, "{c}");
+            }
+            s.push_str(")\n");
+            s
+        };
+        let mut boundary = head("polyBoundaryMesh", "boundary", "");
+        let _ = writeln!(boundary, "{}\n(", self.patches.len());
+        for p in &self.patches {
+            let _ = writeln!(boundary, "    {}\n    {{\n        type            {};\n        nFaces          {};\n        startFace       {};\n    }}", p.name, p.kind, p.n_faces, p.start_face);
+        }
+        boundary.push_str(")\n");
+        vec![
+            ("points".into(), pts.into_bytes()),
+            ("faces".into(), faces.into_bytes()),
+            ("owner".into(), labels("owner", &self.owner).into_bytes()),
+            ("neighbour".into(), labels("neighbour", &self.neighbour).into_bytes()),
+            ("boundary".into(), boundary.into_bytes()),
+        ]
+    }
+}
+
+/// `key:value` from an owner file's `note` (`"nPoints:882 nCells:400 …"`).
+fn note_value(note: &str, key: &str) -> Option<usize> {
+    note.split_whitespace().find_map(|kv| kv.strip_prefix(key)?.strip_prefix(':')?.parse().ok())
+}
+
+/// Read the `boundary` file: `N ( name { type t; nFaces n; startFace s; … } … )`.
+fn read_boundary(bytes: &[u8]) -> Result<Vec<Patch>> {
+    use file::Tok;
+    let mut lx = file::Lexer::new(bytes);
+    file::read_header(&mut lx)?;
+    let n = lx.count(bytes.len())?;
+    lx.expect(b'(', "`(` opening the patch list")?;
+    let mut out = Vec::with_capacity(n);
+    for _ in 0..n {
+        let name = match lx.next() {
+            Some(Tok::Word(w)) => w.to_string(),
+            _ => return Err(lx.error("a patch name")),
+        };
+        lx.expect(b'{', "`{` opening the patch dictionary")?;
+        let (mut kind, mut nf, mut sf) = (String::new(), None, None);
+        let mut depth = 1;
+        let mut key: Option<String> = None;
+        let mut value: Vec<String> = Vec::new();
+        while depth > 0 {
+            match lx.next() {
+                None => return Err(lx.error("`}` closing the patch dictionary")),
+                Some(Tok::Punct(b'{')) => depth += 1,
+                Some(Tok::Punct(b'}')) => {
+                    depth -= 1;
+                    if depth == 1 {
+                        key = None;
+                        value.clear();
+                    }
+                }
+                Some(Tok::Punct(b';')) => {
+                    if depth == 1 {
+                        if let Some(k) = key.take() {
+                            let v = value.join(" ");
+                            match k.as_str() {
+                                "type" => kind = v,
+                                "nFaces" => nf = v.parse::<usize>().ok(),
+                                "startFace" => sf = v.parse::<usize>().ok(),
+                                _ => {}
+                            }
+                        }
+                    }
+                    value.clear();
+                }
+                Some(Tok::Punct(_)) => {}
+                Some(Tok::Word(w)) => {
+                    if depth == 1 {
+                        if key.is_none() {
+                            key = Some(w.to_string());
+                        } else {
+                            value.push(w.to_string());
+                        }
+                    }
+                }
+            }
+        }
+        let (Some(n_faces), Some(start_face)) = (nf, sf) else {
+            return Err(lx.error("a patch with nFaces and startFace"));
+        };
+        out.push(Patch { name, kind, start_face, n_faces });
+    }
+    lx.expect(b')', "`)` closing the patch list (is the size right?)")?;
+    Ok(out)
+}

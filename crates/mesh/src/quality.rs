@@ -1,0 +1,639 @@
+//! Mesh quality as OpenFOAM's `checkMesh` (v1912) reports it: the geometry of
+//! `primitiveMesh` (face centres and area vectors, cell centres and volumes,
+//! `primitiveMeshFaceCentresAndAreas.C`, `primitiveMeshCellCentresAndVols.C`) and the
+//! checks of `primitiveMeshCheck.C` / `primitiveMeshTools.C`: closed boundary, closed
+//! cells and aspect ratio, face areas, cell volumes, face non-orthogonality, face
+//! pyramids, face skewness, and the `-allGeometry` face concavity and flatness.
+//!
+//! The thresholds are OpenFOAM's: `closedThreshold` 1e-6, `aspectThreshold` 1000,
+//! `nonOrthThreshold` 70°, `skewThreshold` 4, face-angle limit 10°, flatness warning 0.8.
+//! A check that `checkMesh` counts as failed (its `***` lines) is listed in
+//! [`Quality::failed`]; [`Quality::ok`] is its "Mesh OK." verdict.
+
+use nalgebra::{Point3, Vector3};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::format::foam::PolyMesh;
+
+/// OpenFOAM's `VSMALL` for double precision.
+const VSMALL: f64 = 1e-300;
+/// OpenFOAM's `ROOTVSMALL`.
+const ROOTVSMALL: f64 = 1e-150;
+/// OpenFOAM's `SMALL`.
+const SMALL: f64 = 1e-15;
+/// `primitiveMesh::closedThreshold_`.
+pub const CLOSED_THRESHOLD: f64 = 1e-6;
+/// `primitiveMesh::aspectThreshold_`.
+pub const ASPECT_THRESHOLD: f64 = 1000.0;
+/// `primitiveMesh::nonOrthThreshold_`, degrees.
+pub const NON_ORTH_THRESHOLD: f64 = 70.0;
+/// `primitiveMesh::skewThreshold_`.
+pub const SKEW_THRESHOLD: f64 = 4.0;
+/// `primitiveMesh::planarCosAngle_`-independent face-angle limit of `checkFaceAngles`, degrees.
+pub const MAX_FACE_ANGLE: f64 = 10.0;
+/// Flatness below which `checkFaceFlatness` warns.
+pub const WARN_FLATNESS: f64 = 0.8;
+
+/// The primitive geometry of a polyhedral mesh, computed as OpenFOAM computes it.
+#[derive(Debug, Clone)]
+pub struct Geometry {
+    /// Face centres (area-weighted centroids of the triangle fan about the vertex average).
+    pub face_centres: Vec<Point3<f64>>,
+    /// Face area vectors (½ Σ of the fan's cross products), pointing out of the owner.
+    pub face_areas: Vec<Vector3<f64>>,
+    /// Cell centres (volume-weighted centroids of the face pyramids about the mean of the face centres).
+    pub cell_centres: Vec<Point3<f64>>,
+    /// Cell volumes (sum of face-pyramid volumes; negative for an inverted cell).
+    pub cell_volumes: Vec<f64>,
+}
+
+/// Face centre and area vector of the polygon `f` (`primitiveMeshFaceCentresAndAreas`).
+pub fn face_centre_and_area(points: &[Point3<f64>], f: &[usize]) -> (Point3<f64>, Vector3<f64>) {
+    let n = f.len();
+    if n == 3 {
+        let (a, b, c) = (points[f[0]], points[f[1]], points[f[2]]);
+        let centre = Point3::from((a.coords + b.coords + c.coords) / 3.0);
+        return (centre, 0.5 * (b - a).cross(&(c - a)));
+    }
+    let mut est = Vector3::zeros();
+    for &i in f {
+        est += points[i].coords;
+    }
+    let est = est / n as f64;
+    let (mut sum_n, mut sum_a, mut sum_ac) = (Vector3::zeros(), 0.0, Vector3::zeros());
+    for k in 0..n {
+        let p = points[f[k]].coords;
+        let q = points[f[(k + 1) % n]].coords;
+        let c = p + q + est;
+        let nv = (q - p).cross(&(est - p));
+        let a = nv.norm();
+        sum_n += nv;
+        sum_a += a;
+        sum_ac += a * c;
+    }
+    if sum_a < ROOTVSMALL {
+        (Point3::from(est), Vector3::zeros())
+    } else {
+        (Point3::from(sum_ac / (3.0 * sum_a)), 0.5 * sum_n)
+    }
+}
+
+impl Geometry {
+    /// The geometry of `mesh`.
+    pub fn of(mesh: &PolyMesh) -> Geometry {
+        let nf = mesh.n_faces();
+        let (face_centres, face_areas): (Vec<_>, Vec<_>) =
+            (0..nf).into_par_iter().map(|i| face_centre_and_area(&mesh.points, mesh.face(i))).unzip();
+        let nc = mesh.n_cells();
+        let (own, nei) = (mesh.owner(), mesh.neighbour());
+        let mut est = vec![Vector3::zeros(); nc];
+        let mut count = vec![0u32; nc];
+        for (i, &c) in own.iter().enumerate() {
+            est[c] += face_centres[i].coords;
+            count[c] += 1;
+        }
+        for (i, &c) in nei.iter().enumerate() {
+            est[c] += face_centres[i].coords;
+            count[c] += 1;
+        }
+        for (e, &k) in est.iter_mut().zip(&count) {
+            *e /= k.max(1) as f64;
+        }
+        let mut ctr = vec![Vector3::zeros(); nc];
+        let mut vol = vec![0.0; nc];
+        for (i, &c) in own.iter().enumerate() {
+            let pyr3 = face_areas[i].dot(&(face_centres[i].coords - est[c]));
+            let pc = 0.75 * face_centres[i].coords + 0.25 * est[c];
+            ctr[c] += pyr3 * pc;
+            vol[c] += pyr3;
+        }
+        for (i, &c) in nei.iter().enumerate() {
+            let pyr3 = face_areas[i].dot(&(est[c] - face_centres[i].coords));
+            let pc = 0.75 * face_centres[i].coords + 0.25 * est[c];
+            ctr[c] += pyr3 * pc;
+            vol[c] += pyr3;
+        }
+        let cell_centres = (0..nc)
+            .map(|c| if vol[c].abs() > VSMALL { Point3::from(ctr[c] / vol[c]) } else { Point3::from(est[c]) })
+            .collect();
+        let cell_volumes = vol.into_iter().map(|v| v / 3.0).collect();
+        Geometry { face_centres, face_areas, cell_centres, cell_volumes }
+    }
+}
+
+/// Where the worst value of a check is: a face or a cell index, and the value.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Worst {
+    /// Face or cell index (0-based, OpenFOAM's numbering).
+    pub index: usize,
+    /// The value there.
+    pub value: f64,
+}
+
+/// The numbers `checkMesh` prints under "Mesh stats" and "Checking geometry...".
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Quality {
+    /// Points.
+    pub points: usize,
+    /// Faces.
+    pub faces: usize,
+    /// Internal faces.
+    pub internal_faces: usize,
+    /// Cells.
+    pub cells: usize,
+    /// Solution directions (`1` used, `-1` empty), as "Mesh has N solution directions".
+    pub solution_directions: [i8; 3],
+    /// "Boundary openness (x y z)": sum of boundary area vectors over the sum of their magnitudes.
+    pub boundary_openness: [f64; 3],
+    /// "Max cell openness".
+    pub max_cell_openness: Worst,
+    /// "Max aspect ratio".
+    pub max_aspect_ratio: Worst,
+    /// "Minimum face area".
+    pub min_face_area: Worst,
+    /// "Maximum face area".
+    pub max_face_area: Worst,
+    /// "Min volume".
+    pub min_volume: Worst,
+    /// "Max volume".
+    pub max_volume: Worst,
+    /// "Total volume".
+    pub total_volume: f64,
+    /// Cells with volume below `VSMALL` (inverted or collapsed).
+    pub negative_volumes: usize,
+    /// "Mesh non-orthogonality Max", degrees, over internal faces.
+    pub max_non_orthogonality: Worst,
+    /// "average", degrees: the angle of the mean cosine.
+    pub average_non_orthogonality: f64,
+    /// "Number of severely non-orthogonal (> 70 degrees) faces".
+    pub severely_non_orthogonal: usize,
+    /// Faces beyond 90° (OpenFOAM's non-orthogonality errors).
+    pub non_orthogonality_errors: usize,
+    /// Face pyramids of negative volume ("Error in face pyramids").
+    pub pyramid_errors: usize,
+    /// Smallest face-pyramid volume (apex at the owner or neighbour centre).
+    pub min_pyramid_volume: Worst,
+    /// "Max skewness", over all faces.
+    pub max_skewness: Worst,
+    /// Faces with skewness above 4 ("highly skew faces").
+    pub highly_skew_faces: usize,
+    /// `-allGeometry` "Max face angle" (concavity), degrees; 0 when no face is concave.
+    pub max_concave_angle: Worst,
+    /// Faces with a concave angle above 10°.
+    pub concave_faces: usize,
+    /// `-allGeometry` face flatness minimum (1 flat, 0 butterfly), over faces of 4+ points.
+    pub min_flatness: Worst,
+    /// Face flatness average.
+    pub average_flatness: f64,
+    /// Faces with flatness below 0.8.
+    pub warped_faces: usize,
+    /// The checks `checkMesh` would fail (its `***` lines), in its order.
+    pub failed: Vec<String>,
+}
+
+/// Shortest round-trip digits, in scientific notation for very small or large magnitudes.
+fn num(v: f64) -> String {
+    if v != 0.0 && (v.abs() < 1e-4 || v.abs() >= 1e7) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+fn max_by(values: impl Iterator<Item = f64>) -> Worst {
+    let mut w = Worst { index: 0, value: f64::NEG_INFINITY };
+    for (i, v) in values.enumerate() {
+        if v > w.value {
+            w = Worst { index: i, value: v };
+        }
+    }
+    w
+}
+
+fn min_by(values: impl Iterator<Item = f64>) -> Worst {
+    let mut w = Worst { index: 0, value: f64::INFINITY };
+    for (i, v) in values.enumerate() {
+        if v < w.value {
+            w = Worst { index: i, value: v };
+        }
+    }
+    w
+}
+
+/// OpenFOAM's `faceSkewness` (internal face) and `boundaryFaceSkewness`.
+fn skewness(
+    points: &[Point3<f64>],
+    f: &[usize],
+    fc: &Point3<f64>,
+    fa: &Vector3<f64>,
+    own: &Point3<f64>,
+    nei: Option<&Point3<f64>>,
+) -> f64 {
+    let cpf = fc - own;
+    let (d, factor) = match nei {
+        Some(n) => (n - own, 0.2),
+        None => {
+            let normal = fa / (fa.norm() + ROOTVSMALL);
+            (normal * normal.dot(&cpf), 0.4)
+        }
+    };
+    let sv = cpf - (fa.dot(&cpf) / (fa.dot(&d) + ROOTVSMALL)) * d;
+    let sv_hat = sv / (sv.norm() + ROOTVSMALL);
+    let mut fd = factor * d.norm() + ROOTVSMALL;
+    for &p in f {
+        fd = fd.max(sv_hat.dot(&(points[p] - fc)).abs());
+    }
+    sv.norm() / fd
+}
+
+/// OpenFOAM's `faceConcavity`: the largest sine of a concave corner (0 for convex faces).
+fn concavity(points: &[Point3<f64>], f: &[usize], fa: &Vector3<f64>) -> f64 {
+    let n = f.len();
+    let normal = fa / (fa.norm() + VSMALL);
+    let mut max_sin: f64 = 0.0;
+    for k in 0..n {
+        let prev = points[f[(k + n - 1) % n]];
+        let this = points[f[k]];
+        let next = points[f[(k + 1) % n]];
+        let e_prev = (this - prev) / ((this - prev).norm() + VSMALL);
+        let e_next = (next - this) / ((next - this).norm() + VSMALL);
+        let en = e_prev.cross(&e_next);
+        if en.dot(&normal) < SMALL {
+            let m = en.norm();
+            if m > VSMALL {
+                max_sin = max_sin.max(m);
+            }
+        }
+    }
+    max_sin
+}
+
+/// OpenFOAM's `faceFlatness`: |area| over the sum of the fan triangles' areas.
+fn flatness(points: &[Point3<f64>], f: &[usize], fc: &Point3<f64>, fa: &Vector3<f64>) -> Option<f64> {
+    let mag = fa.norm();
+    if f.len() <= 3 || mag <= ROOTVSMALL {
+        return None;
+    }
+    let n = f.len();
+    let mut sum = 0.0;
+    for k in 0..n {
+        let p = points[f[k]];
+        let q = points[f[(k + 1) % n]];
+        sum += (0.5 * (q - p).cross(&(fc - p))).norm();
+    }
+    Some(mag / (sum + ROOTVSMALL))
+}
+
+fn coupled(kind: &str) -> bool {
+    matches!(kind, "cyclic" | "cyclicAMI" | "cyclicACMI" | "processor" | "processorCyclic" | "cyclicSlip")
+}
+
+impl Quality {
+    /// Run the checks on `mesh`.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use cadmorph_mesh::{format::foam::PolyMesh, quality::Quality, Cell, CellKind};
+    /// use cadmorph_morph::math::Point3;
+    /// // One unit cube.
+    /// let p = [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.], [0., 0., 1.], [1., 0., 1.], [1., 1., 1.], [0., 1., 1.]];
+    /// let points = p.iter().map(|&c| Point3::from(c)).collect();
+    /// let mesh = PolyMesh::from_cells(points, &[Cell::new(CellKind::Hexahedron, (0..8).collect())])?;
+    /// let q = Quality::of(&mesh);
+    /// assert!(q.ok());
+    /// assert!((q.total_volume - 1.0).abs() < 1e-15);
+    /// assert!((q.max_aspect_ratio.value - 1.0).abs() < 1e-15);
+    /// # Ok::<(), cadmorph_mesh::Error>(())
+    /// ```
+    pub fn of(mesh: &PolyMesh) -> Quality {
+        let g = Geometry::of(mesh);
+        Quality::from_geometry(mesh, &g)
+    }
+
+    /// Run the checks with a precomputed [`Geometry`].
+    pub fn from_geometry(mesh: &PolyMesh, g: &Geometry) -> Quality {
+        let pts = &mesh.points;
+        let (own, nei) = (mesh.owner(), mesh.neighbour());
+        let (nf, ni, nc) = (mesh.n_faces(), mesh.n_internal_faces(), mesh.n_cells());
+        let mut failed = Vec::new();
+
+        // Solution directions (polyMesh::calcDirections): empty patches remove the
+        // directions their normals take.
+        let mut empty_dir = Vector3::zeros();
+        for p in mesh.patches().iter().filter(|p| p.kind == "empty") {
+            for f in p.start_face..p.start_face + p.n_faces {
+                empty_dir += g.face_areas[f].abs();
+            }
+        }
+        let norm = empty_dir.norm();
+        let mut dirs = [1i8; 3];
+        if norm > VSMALL {
+            for k in 0..3 {
+                if empty_dir[k] / norm > 1e-6 {
+                    dirs[k] = -1;
+                }
+            }
+        }
+        let n_dims = dirs.iter().filter(|&&d| d == 1).count();
+
+        // checkClosedBoundary.
+        let (mut sum_closed, mut sum_mag) = (Vector3::zeros(), 0.0);
+        for p in mesh.patches().iter().filter(|p| !coupled(&p.kind)) {
+            for f in p.start_face..p.start_face + p.n_faces {
+                sum_closed += g.face_areas[f];
+                sum_mag += g.face_areas[f].norm();
+            }
+        }
+        let openness = sum_closed / (sum_mag + VSMALL);
+        if openness.abs().max() > CLOSED_THRESHOLD {
+            failed.push(format!(
+                "boundary openness ({:e} {:e} {:e}): possible hole in the boundary",
+                openness.x, openness.y, openness.z
+            ));
+        }
+
+        // checkClosedCells (cellClosedness).
+        let mut sc = vec![Vector3::zeros(); nc];
+        let mut smc = vec![Vector3::zeros(); nc];
+        for (f, &c) in own.iter().enumerate() {
+            sc[c] += g.face_areas[f];
+            smc[c] += g.face_areas[f].abs();
+        }
+        for (f, &c) in nei.iter().enumerate() {
+            sc[c] -= g.face_areas[f];
+            smc[c] += g.face_areas[f].abs();
+        }
+        let cell_open = (0..nc).map(|c| (0..3).map(|k| sc[c][k].abs() / (smc[c][k] + ROOTVSMALL)).fold(0.0, f64::max));
+        let max_cell_openness = max_by(cell_open);
+        let aspect = (0..nc).map(|c| {
+            let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+            for k in 0..3 {
+                if dirs[k] == 1 {
+                    lo = lo.min(smc[c][k]);
+                    hi = hi.max(smc[c][k]);
+                }
+            }
+            let mut ar = hi / (lo + ROOTVSMALL);
+            if n_dims == 3 {
+                let v = g.cell_volumes[c].max(ROOTVSMALL);
+                ar = ar.max(smc[c].sum() / 6.0 / v.powf(2.0 / 3.0));
+            }
+            ar
+        });
+        let max_aspect_ratio = max_by(aspect);
+        if max_cell_openness.value > CLOSED_THRESHOLD {
+            failed.push(format!(
+                "open cells: max cell openness {:e} at cell {}",
+                max_cell_openness.value, max_cell_openness.index
+            ));
+        }
+        if max_aspect_ratio.value > ASPECT_THRESHOLD {
+            failed.push(format!(
+                "high aspect ratio cells: max {:e} at cell {}",
+                max_aspect_ratio.value, max_aspect_ratio.index
+            ));
+        }
+
+        // checkFaceAreas.
+        let min_face_area = min_by(g.face_areas.iter().map(|a| a.norm()));
+        let max_face_area = max_by(g.face_areas.iter().map(|a| a.norm()));
+        if min_face_area.value < VSMALL {
+            failed.push(format!("zero or negative face area at face {}", min_face_area.index));
+        }
+
+        // checkCellVolumes.
+        let min_volume = min_by(g.cell_volumes.iter().copied());
+        let max_volume = max_by(g.cell_volumes.iter().copied());
+        let total_volume: f64 = g.cell_volumes.iter().sum();
+        let negative_volumes = g.cell_volumes.iter().filter(|&&v| v < VSMALL).count();
+        if negative_volumes > 0 {
+            failed.push(format!(
+                "{negative_volumes} zero or negative cell volume(s): minimum {:e} at cell {}",
+                min_volume.value, min_volume.index
+            ));
+        }
+
+        // checkFaceOrthogonality (internal faces).
+        let severe = NON_ORTH_THRESHOLD.to_radians().cos();
+        let ortho: Vec<f64> = (0..ni)
+            .map(|f| {
+                let d = g.cell_centres[nei[f]] - g.cell_centres[own[f]];
+                let s = g.face_areas[f];
+                d.dot(&s) / (d.norm() * s.norm() + ROOTVSMALL)
+            })
+            .collect();
+        let (mut severely_non_orthogonal, mut non_orthogonality_errors) = (0, 0);
+        for &o in &ortho {
+            if o < severe {
+                if o > SMALL {
+                    severely_non_orthogonal += 1;
+                } else {
+                    non_orthogonality_errors += 1;
+                }
+            }
+        }
+        let min_ortho = min_by(ortho.iter().copied());
+        let deg = |c: f64| c.clamp(-1.0, 1.0).acos().to_degrees();
+        let max_non_orthogonality = if ni > 0 {
+            Worst { index: min_ortho.index, value: deg(min_ortho.value) }
+        } else {
+            Worst { index: 0, value: 0.0 }
+        };
+        let average_non_orthogonality = if ni > 0 { deg(ortho.iter().sum::<f64>() / ni as f64) } else { 0.0 };
+        if non_orthogonality_errors > 0 {
+            failed.push(format!(
+                "{non_orthogonality_errors} non-orthogonality error(s) (> 90°): max {} at face {}",
+                max_non_orthogonality.value, max_non_orthogonality.index
+            ));
+        }
+
+        // checkFacePyramids.
+        let pyr = |f: usize, apex: &Point3<f64>, owner_side: bool| {
+            let v = g.face_areas[f].dot(&(g.face_centres[f] - apex)) / 3.0;
+            if owner_side {
+                v
+            } else {
+                -v
+            }
+        };
+        let mut pyramid_errors = 0;
+        let mut min_pyr = Worst { index: 0, value: f64::INFINITY };
+        for f in 0..nf {
+            let mut vs = vec![pyr(f, &g.cell_centres[own[f]], true)];
+            if f < ni {
+                vs.push(pyr(f, &g.cell_centres[nei[f]], false));
+            }
+            for v in vs {
+                if v < -SMALL {
+                    pyramid_errors += 1;
+                }
+                if v < min_pyr.value {
+                    min_pyr = Worst { index: f, value: v };
+                }
+            }
+        }
+        if pyramid_errors > 0 {
+            failed.push(format!(
+                "{pyramid_errors} incorrectly oriented face pyramid(s): minimum volume {:e} at face {}",
+                min_pyr.value, min_pyr.index
+            ));
+        }
+
+        // checkFaceSkewness (all faces but coupled ones).
+        let mut skip = vec![false; nf];
+        for p in mesh.patches().iter().filter(|p| coupled(&p.kind)) {
+            for s in &mut skip[p.start_face..p.start_face + p.n_faces] {
+                *s = true;
+            }
+        }
+        let skew: Vec<f64> = (0..nf)
+            .into_par_iter()
+            .map(|f| {
+                if skip[f] {
+                    return 0.0;
+                }
+                let n = if f < ni { Some(&g.cell_centres[nei[f]]) } else { None };
+                skewness(pts, mesh.face(f), &g.face_centres[f], &g.face_areas[f], &g.cell_centres[own[f]], n)
+            })
+            .collect();
+        let max_skewness = max_by(skew.iter().copied());
+        let highly_skew_faces = skew.iter().filter(|&&s| s > SKEW_THRESHOLD).count();
+        if highly_skew_faces > 0 {
+            failed.push(format!(
+                "max skewness {} at face {}: {highly_skew_faces} highly skew face(s)",
+                max_skewness.value, max_skewness.index
+            ));
+        }
+
+        // -allGeometry: face concavity and flatness (reported, not counted as failures,
+        // as in checkMesh without -allGeometry).
+        let conc: Vec<f64> = (0..nf).map(|f| concavity(pts, mesh.face(f), &g.face_areas[f])).collect();
+        let max_sin = max_by(conc.iter().copied());
+        let limit = MAX_FACE_ANGLE.to_radians().sin();
+        let concave_faces = conc.iter().filter(|&&s| s > limit).count();
+        let max_concave_angle = Worst { index: max_sin.index, value: max_sin.value.min(1.0).asin().to_degrees() };
+        let flat: Vec<(usize, f64)> = (0..nf)
+            .filter_map(|f| flatness(pts, mesh.face(f), &g.face_centres[f], &g.face_areas[f]).map(|v| (f, v)))
+            .collect();
+        let mut min_flatness = Worst { index: 0, value: 1.0 };
+        for &(f, v) in &flat {
+            if v < min_flatness.value {
+                min_flatness = Worst { index: f, value: v };
+            }
+        }
+        let average_flatness =
+            if flat.is_empty() { 1.0 } else { flat.iter().map(|x| x.1).sum::<f64>() / flat.len() as f64 };
+        let warped_faces = flat.iter().filter(|x| x.1 < WARN_FLATNESS).count();
+
+        Quality {
+            points: pts.len(),
+            faces: nf,
+            internal_faces: ni,
+            cells: nc,
+            solution_directions: dirs,
+            boundary_openness: [openness.x, openness.y, openness.z],
+            max_cell_openness,
+            max_aspect_ratio,
+            min_face_area,
+            max_face_area,
+            min_volume,
+            max_volume,
+            total_volume,
+            negative_volumes,
+            max_non_orthogonality,
+            average_non_orthogonality,
+            severely_non_orthogonal,
+            non_orthogonality_errors,
+            pyramid_errors,
+            min_pyramid_volume: min_pyr,
+            max_skewness,
+            highly_skew_faces,
+            max_concave_angle,
+            concave_faces,
+            min_flatness,
+            average_flatness,
+            warped_faces,
+            failed,
+        }
+    }
+
+    /// `checkMesh`'s "Mesh OK." verdict: no failed check.
+    pub fn ok(&self) -> bool {
+        self.failed.is_empty()
+    }
+
+    /// Whether a morph leaves the mesh usable: no failed check, and no face that turned
+    /// concave beyond 10° (`-allGeometry`'s face angles).
+    pub fn acceptable(&self) -> bool {
+        self.ok() && self.concave_faces == 0
+    }
+
+    /// The report as JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// The report as an aligned text table, one check per line (checkMesh's wording).
+    pub fn table(&self) -> String {
+        let mut rows: Vec<(String, String)> = vec![
+            ("points".into(), self.points.to_string()),
+            ("faces".into(), self.faces.to_string()),
+            ("internal faces".into(), self.internal_faces.to_string()),
+            ("cells".into(), self.cells.to_string()),
+            (
+                "boundary openness".into(),
+                format!(
+                    "({:e} {:e} {:e})",
+                    self.boundary_openness[0], self.boundary_openness[1], self.boundary_openness[2]
+                ),
+            ),
+            (
+                "max cell openness".into(),
+                format!("{:e} (cell {})", self.max_cell_openness.value, self.max_cell_openness.index),
+            ),
+            (
+                "max aspect ratio".into(),
+                format!("{} (cell {})", num(self.max_aspect_ratio.value), self.max_aspect_ratio.index),
+            ),
+            ("min face area".into(), format!("{:e} (face {})", self.min_face_area.value, self.min_face_area.index)),
+            ("max face area".into(), format!("{:e} (face {})", self.max_face_area.value, self.max_face_area.index)),
+            ("min volume".into(), format!("{:e} (cell {})", self.min_volume.value, self.min_volume.index)),
+            ("max volume".into(), format!("{:e} (cell {})", self.max_volume.value, self.max_volume.index)),
+            ("total volume".into(), format!("{:e}", self.total_volume)),
+            ("negative volumes".into(), self.negative_volumes.to_string()),
+            (
+                "max non-orthogonality".into(),
+                format!("{} deg (face {})", num(self.max_non_orthogonality.value), self.max_non_orthogonality.index),
+            ),
+            ("average non-orthogonality".into(), format!("{} deg", num(self.average_non_orthogonality))),
+            ("faces > 70 deg".into(), self.severely_non_orthogonal.to_string()),
+            ("faces > 90 deg".into(), self.non_orthogonality_errors.to_string()),
+            ("face pyramid errors".into(), self.pyramid_errors.to_string()),
+            ("max skewness".into(), format!("{} (face {})", num(self.max_skewness.value), self.max_skewness.index)),
+            ("faces skewness > 4".into(), self.highly_skew_faces.to_string()),
+            (
+                "max concave angle".into(),
+                format!("{} deg (face {})", num(self.max_concave_angle.value), self.max_concave_angle.index),
+            ),
+            ("concave faces > 10 deg".into(), self.concave_faces.to_string()),
+            ("min flatness".into(), format!("{} (face {})", num(self.min_flatness.value), self.min_flatness.index)),
+            ("average flatness".into(), num(self.average_flatness)),
+            ("faces flatness < 0.8".into(), self.warped_faces.to_string()),
+        ];
+        rows.push((
+            "verdict".into(),
+            if self.ok() { "Mesh OK.".into() } else { format!("Failed {} mesh checks.", self.failed.len()) },
+        ));
+        let w = rows.iter().map(|r| r.0.len()).max().unwrap_or(0);
+        let mut s = String::new();
+        for (k, v) in rows {
+            s += &format!("{k:<w$}  {v}\n");
+        }
+        for f in &self.failed {
+            s += &format!("*** {f}\n");
+        }
+        s
+    }
+}
