@@ -58,6 +58,37 @@ pub(crate) fn insert_knot(
     (uq, qw)
 }
 
+/// A5.1 extended to multiplicity `p + 1`: inserts `u` `r` times where `s + r` may
+/// reach `p + 1` (caller ensures `s + r ≤ p + 1` and `u` strictly inside the domain).
+///
+/// Up to multiplicity `p` this is [`insert_knot`]. The last copy, taking `u` from
+/// multiplicity `p` to `p + 1`, has no affine combination left to form: with `k'` the
+/// index of the last copy of `u`, every `αᵢ` of (5.15) for `k' − p + 1 ≤ i ≤ k' − p`
+/// is absent, so the new net is the old one with `Pw_{k'−p}` (the point `C(u)`)
+/// doubled. The basis then splits at `u` into two independent pieces (C⁻¹ there), as
+/// in geomdl's `insert_knot` and Splipy's `insert_knot` at full multiplicity.
+pub(crate) fn insert_knot_full(
+    p: usize,
+    knots: &[f64],
+    pw: &[Hom],
+    u: f64,
+    k: usize,
+    s: usize,
+    r: usize,
+) -> (Vec<f64>, Vec<Hom>) {
+    if s + r <= p {
+        return insert_knot(p, knots, pw, u, k, s, r);
+    }
+    let smooth = p - s;
+    let (mut uq, mut qw) =
+        if smooth > 0 { insert_knot(p, knots, pw, u, k, s, smooth) } else { (knots.to_vec(), pw.to_vec()) };
+    let last = k + smooth;
+    uq.insert(last + 1, u);
+    let on_curve = qw[last - p];
+    qw.insert(last - p + 1, on_curve);
+    (uq, qw)
+}
+
 /// A5.4: inserts all of `x` (sorted, inside the domain) at once.
 pub(crate) fn refine(p: usize, knots: &[f64], pw: &[Hom], x: &[f64]) -> (Vec<f64>, Vec<Hom>) {
     if x.is_empty() {

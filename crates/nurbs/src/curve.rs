@@ -234,8 +234,13 @@ impl NurbsCurve {
     }
 
     /// Inserts the knot `u` `times` times (Piegl & Tiller A5.1); the geometry does not
-    /// change. The multiplicity is capped at the degree: returns how many copies were
-    /// actually inserted.
+    /// change. Returns how many copies were actually inserted: the multiplicity is
+    /// capped at `p + 1` strictly inside the domain and at `p` on its ends.
+    ///
+    /// At multiplicity `p + 1` the control point `C(u)` is doubled and the curve falls
+    /// apart into two pieces joined only by position: it is C⁻¹ there in the sense of
+    /// the basis (moving one of the two doubled points opens a gap), as geomdl, verb and
+    /// Splipy allow. Evaluation at `u` itself takes the piece on the right.
     ///
     /// # Errors
     ///
@@ -243,11 +248,11 @@ impl NurbsCurve {
     pub fn insert_knot(&mut self, u: f64, times: usize) -> Result<usize> {
         self.check_inside(u)?;
         let (k, s) = algo::insertion_span(self.knots.as_slice(), u);
-        let r = times.min(self.degree.saturating_sub(s));
+        let r = times.min(max_insertion(self.knots.domain(self.degree), self.degree, u).saturating_sub(s));
         if r == 0 {
             return Ok(0);
         }
-        let (knots, pw) = algo::insert_knot(self.degree, self.knots.as_slice(), &self.homogeneous(), u, k, s, r);
+        let (knots, pw) = algo::insert_knot_full(self.degree, self.knots.as_slice(), &self.homogeneous(), u, k, s, r);
         *self = Self::from_parts(self.degree, knots, &pw, self.is_rational());
         Ok(r)
     }
@@ -296,7 +301,11 @@ impl NurbsCurve {
     }
 
     /// Raises the degree by `t` without changing the geometry (Piegl & Tiller A5.9).
-    /// An unclamped curve is clamped first.
+    ///
+    /// An unclamped curve stays unclamped: it is clamped, elevated and unclamped again
+    /// (A12.1) onto outer knots whose runs each gain `t` copies, like the interior
+    /// ones. A periodic curve (from [`try_periodic`](Self::try_periodic)) therefore
+    /// comes back periodic, its first `p + t` control points repeating at the end.
     ///
     /// # Errors
     ///
@@ -305,9 +314,16 @@ impl NurbsCurve {
         if self.degree + t > MAX_DEGREE {
             return Err(Error::Degree { degree: self.degree + t });
         }
-        let c = self.clamped();
-        let (knots, pw) = algo::elevate_degree(c.degree, c.knots.as_slice(), &c.homogeneous(), t);
-        *self = Self::from_parts(c.degree + t, knots, &pw, c.is_rational());
+        if t == 0 {
+            return Ok(());
+        }
+        let p = self.degree;
+        let (knots, pw) = if self.knots.is_clamped(p) {
+            algo::elevate_degree(p, self.knots.as_slice(), &self.homogeneous(), t)
+        } else {
+            crate::unclamp::elevate_unclamped(p, self.knots.as_slice(), &self.homogeneous(), t)
+        };
+        *self = Self::from_parts(p + t, knots, &pw, self.is_rational());
         Ok(())
     }
 
@@ -349,7 +365,9 @@ impl NurbsCurve {
     /// Splits the curve at `t` into the parts on `[a, t]` and `[t, b]`.
     ///
     /// `c.split(t).0.eval(u)` is the same point as `c.eval(u)` for `u ≤ t`, and
-    /// `.1.eval(u)` for `u ≥ t`.
+    /// `.1.eval(u)` for `u ≥ t`. A knot of multiplicity `p + 1` at `t` (a C⁻¹ joint, see
+    /// [`insert_knot`](Self::insert_knot)) is split without change: the left part ends
+    /// on the left piece's last control point, the right part starts on the other.
     ///
     /// # Errors
     ///
@@ -361,7 +379,8 @@ impl NurbsCurve {
         }
         let mut c = self.clamped();
         let p = c.degree;
-        c.insert_knot(t, p)?;
+        let present = c.knots.as_slice().iter().filter(|&&k| k == t).count();
+        c.insert_knot(t, p.saturating_sub(present))?;
         let ks = c.knots.as_slice();
         let a = ks.partition_point(|&k| k < t);
         let s = ks.iter().filter(|&&k| k == t).count();
@@ -427,6 +446,17 @@ impl NurbsCurve {
                 Point3::from(acc / wsum)
             }
         }
+    }
+}
+
+/// The highest multiplicity knot insertion may reach at `u`: `p + 1` strictly inside
+/// the domain (the spline splits there), `p` on its ends (a `(p + 1)`-th copy would
+/// leave an empty end piece).
+pub(crate) fn max_insertion(domain: RangeInclusive<f64>, p: usize, u: f64) -> usize {
+    if u > *domain.start() && u < *domain.end() {
+        p + 1
+    } else {
+        p
     }
 }
 

@@ -40,6 +40,7 @@ mod project;
 mod surface;
 mod tessellate;
 pub mod tol;
+mod unclamp;
 
 pub use basis::{basis_funs, ders_basis_funs};
 pub use curve::NurbsCurve;

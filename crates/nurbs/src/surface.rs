@@ -7,7 +7,8 @@ use nalgebra::{Point3, Unit, Vector3};
 use crate::algo::{self, Hom};
 use crate::basis::{basis_funs_into, ders_basis_funs_into};
 use crate::curve::{
-    binomial, check_points, check_weights, clamp_hom, from_hom, homogeneous_tol, prepare_refinement, to_hom,
+    binomial, check_points, check_weights, clamp_hom, from_hom, homogeneous_tol, max_insertion, prepare_refinement,
+    to_hom,
 };
 use crate::{Error, KnotVector, NurbsCurve, Result, Surface, MAX_DEGREE};
 
@@ -405,7 +406,9 @@ impl NurbsSurface {
     }
 
     /// Inserts the knot `u` `times` times in the u direction (A5.1 per column);
-    /// returns the copies actually inserted (the multiplicity is capped at the degree).
+    /// returns the copies actually inserted. As for [`NurbsCurve::insert_knot`], the
+    /// multiplicity is capped at `p + 1` strictly inside the domain (the surface then
+    /// splits into two patches joined only by position along `u`) and `p` on its ends.
     ///
     /// # Errors
     ///
@@ -414,11 +417,11 @@ impl NurbsSurface {
         check_in(&self.u_knots, self.u_degree, u)?;
         let p = self.u_degree;
         let (k, s) = algo::insertion_span(self.u_knots.as_slice(), u);
-        let r = times.min(p.saturating_sub(s));
+        let r = times.min(max_insertion(self.u_knots.domain(p), p, u).saturating_sub(s));
         if r == 0 {
             return Ok(0);
         }
-        *self = self.map_u_rows(p, |knots, c| algo::insert_knot(p, knots, c, u, k, s, r));
+        *self = self.map_u_rows(p, |knots, c| algo::insert_knot_full(p, knots, c, u, k, s, r));
         Ok(r)
     }
 
@@ -497,8 +500,9 @@ impl NurbsSurface {
         r
     }
 
-    /// Raises the u degree by `t` (A5.9 on every column; unclamped directions are
-    /// clamped first). The geometry does not change.
+    /// Raises the u degree by `t` (A5.9 on every column). The geometry does not
+    /// change; an unclamped (periodic) u direction stays unclamped, as in
+    /// [`NurbsCurve::elevate_degree`] (clamp, elevate, unclamp with A12.1).
     ///
     /// # Errors
     ///
@@ -508,9 +512,13 @@ impl NurbsSurface {
             return Err(Error::Degree { degree: self.u_degree + t });
         }
         let p = self.u_degree;
+        let clamped = self.u_knots.is_clamped(p);
         *self = self.map_u_rows(p + t, |knots, c| {
-            let (ck, cp) = clamp_hom(p, knots, c);
-            algo::elevate_degree(p, &ck, &cp, t)
+            if clamped || t == 0 {
+                algo::elevate_degree(p, knots, c, t)
+            } else {
+                crate::unclamp::elevate_unclamped(p, knots, c, t)
+            }
         });
         Ok(())
     }

