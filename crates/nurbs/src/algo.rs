@@ -89,6 +89,15 @@ pub(crate) fn insert_knot_full(
     (uq, qw)
 }
 
+/// The first control point of each Bézier segment of a spline whose interior knots
+/// all have multiplicity `p` or `p + 1` (after the refinement of A5.6): segment `i`
+/// over `[values[i], values[i + 1]]` starts at control point `kᵢ − p`, `kᵢ` the last
+/// index of `values[i]` in `knots`. Counting `i·p` would go wrong after a knot of
+/// multiplicity `p + 1`, where the segments do not share an end point.
+pub(crate) fn bezier_starts(p: usize, knots: &[f64], values: &[f64]) -> Vec<usize> {
+    values[..values.len() - 1].iter().map(|&v| knots.partition_point(|&k| k <= v) - 1 - p).collect()
+}
+
 /// A5.4: inserts all of `x` (sorted, inside the domain) at once.
 pub(crate) fn refine(p: usize, knots: &[f64], pw: &[Hom], x: &[f64]) -> (Vec<f64>, Vec<Hom>) {
     if x.is_empty() {

@@ -350,14 +350,15 @@ impl NurbsCurve {
         for (&v, &m) in values[1..values.len() - 1].iter().zip(&mults[1..mults.len() - 1]) {
             x.extend(std::iter::repeat_n(v, p.saturating_sub(m)));
         }
-        let (_, pw) = algo::refine(p, c.knots.as_slice(), &c.homogeneous(), &x);
+        let (refined, pw) = algo::refine(p, c.knots.as_slice(), &c.homogeneous(), &x);
+        let starts = algo::bezier_starts(p, &refined, &values);
         values
             .windows(2)
-            .enumerate()
-            .map(|(i, w)| {
+            .zip(starts)
+            .map(|(w, first)| {
                 let mut knots = vec![w[0]; p + 1];
                 knots.extend(std::iter::repeat_n(w[1], p + 1));
-                Self::from_parts(p, knots, &pw[i * p..=i * p + p], c.is_rational())
+                Self::from_parts(p, knots, &pw[first..=first + p], c.is_rational())
             })
             .collect()
     }

@@ -150,6 +150,17 @@ pub enum Error {
         /// The deviation reached, or infinity where none applies.
         reached: f64,
     },
+    /// A data reduction (degree reduction, knot removal) that would move the curve by
+    /// more than the tolerance.
+    #[error("{operation}: the curve would move by more than {tol}{}", if bound.is_finite() { format!(" (bound {bound:e})") } else { String::from(" (no bound: a knot cannot be removed within it, or a weight would not stay positive)") })]
+    Tolerance {
+        /// `"degree reduction"`.
+        operation: &'static str,
+        /// The deviation bound reached, or infinity where a step failed before it.
+        bound: f64,
+        /// The tolerance asked for.
+        tol: f64,
+    },
 }
 
 /// Result with the kernel's [`Error`].

@@ -37,6 +37,7 @@ mod error;
 mod fit;
 mod knots;
 mod project;
+mod reduce;
 mod surface;
 mod tessellate;
 pub mod tol;
@@ -48,6 +49,7 @@ pub use error::{Error, Result};
 pub use fit::{fit_curve, greville, interpolate};
 pub use knots::KnotVector;
 pub use project::{CurveProject, CurveProjection, Projection, SurfaceProject};
+pub use reduce::KnotRemoval;
 pub use surface::{NurbsSurface, Side, SurfaceDerivs, SurfacePointD1};
 pub use tessellate::{Aabb, Mesh};
 

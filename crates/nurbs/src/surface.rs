@@ -554,6 +554,8 @@ impl NurbsSurface {
         c.refine_u(&xu).expect("interior knots raised to the degree");
         c.refine_v(&xv).expect("interior knots raised to the degree");
         let pw = c.homogeneous();
+        let u_starts = algo::bezier_starts(p, c.u_knots.as_slice(), &uvals);
+        let v_starts = algo::bezier_starts(q, c.v_knots.as_slice(), &vvals);
         let bez = |a: f64, b: f64, d: usize| {
             let mut k = vec![a; d + 1];
             k.extend(std::iter::repeat_n(b, d + 1));
@@ -561,15 +563,15 @@ impl NurbsSurface {
         };
         uvals
             .windows(2)
-            .enumerate()
-            .map(|(a, uw)| {
+            .zip(&u_starts)
+            .map(|(uw, &a)| {
                 vvals
                     .windows(2)
-                    .enumerate()
-                    .map(|(b, vw)| {
+                    .zip(&v_starts)
+                    .map(|(vw, &b)| {
                         let mut net = Vec::with_capacity((p + 1) * (q + 1));
-                        for i in a * p..=a * p + p {
-                            for j in b * q..=b * q + q {
+                        for i in a..=a + p {
+                            for j in b..=b + q {
                                 net.push(pw[i * c.n_v + j]);
                             }
                         }

@@ -4,7 +4,7 @@
 //! removable knot within a tolerance, and control points at infinity (weight 0).
 
 use cadmorph_nurbs::math::Point3;
-use cadmorph_nurbs::{Curve, KnotVector, NurbsCurve, NurbsSurface, Surface};
+use cadmorph_nurbs::{Curve, Error, KnotVector, NurbsCurve, NurbsSurface, Surface};
 use cadmorph_testkit::strategies::{lerp, nurbs_curve, nurbs_surface};
 use proptest::prelude::*;
 
@@ -61,7 +61,7 @@ proptest! {
         }
         // The doubled control point is C(u) (on the curve, both copies).
         let last = d.knots().as_slice().iter().rposition(|&k| k == u).unwrap();
-        let (a, b) = (d.control_points()[last - p], d.control_points()[last - p - 1 + 0]);
+        let (a, b) = (d.control_points()[last - p], d.control_points()[last - p - 1]);
         prop_assert!((a - c.eval(u)).norm() <= EXACT_OPS * scale, "right piece starts at C(u)");
         prop_assert!((b - c.eval(u)).norm() <= EXACT_OPS * scale, "left piece ends at C(u)");
         // No further copy fits.
@@ -73,6 +73,83 @@ proptest! {
             prop_assert!((half.eval(t) - c.eval(t)).norm() <= EXACT_OPS * scale);
         }
         prop_assert_eq!(l.control_points().len() + rr.control_points().len(), d.control_points().len());
+    }
+
+    /// Degree reduction undoes degree elevation: same degree, knots and control points,
+    /// and a bound at rounding level.
+    #[test]
+    fn reduce_after_elevate_is_identity(c in nurbs_curve(1..=4), t in 1usize..3) {
+        let scale = curve_scale(&c);
+        let mut d = c.clone();
+        d.elevate_degree(t).unwrap();
+        for _ in 0..t {
+            let bound = d.reduce_degree(1e-9 * scale).unwrap();
+            prop_assert!(bound <= 1e-9 * scale);
+        }
+        prop_assert_eq!(d.degree(), c.degree());
+        prop_assert_eq!(d.knots().len(), c.knots().len());
+        for (a, b) in d.knots().as_slice().iter().zip(c.knots().as_slice()) {
+            prop_assert!((a - b).abs() <= 1e-12 * scale, "{:?} vs {:?}", d.knots(), c.knots());
+        }
+        for (a, b) in d.control_points().iter().zip(c.control_points()) {
+            prop_assert!((a - b).norm() <= 1e-8 * scale, "{} vs {}", a, b);
+        }
+        same_curve(&c, &d, 1e-9)?;
+    }
+
+    /// On curves that are not of lower degree, the bound reduction reports holds: no
+    /// sampled point moves further, and a tolerance below the bound is refused with the
+    /// curve left untouched.
+    #[test]
+    fn reduction_bound_holds(c in nurbs_curve(2..=5)) {
+        let mut d = c.clone();
+        let bound = match d.reduce_degree(1e9) {
+            Ok(bound) => bound,
+            Err(e) => {
+                // Only a rational curve whose reduced weights leave the positive range
+                // has no bound.
+                prop_assert!(c.is_rational(), "{e}");
+                prop_assert!(matches!(e, Error::Tolerance { bound, .. } if bound.is_infinite()), "{e}");
+                prop_assert_eq!(&d, &c);
+                return Ok(());
+            }
+        };
+        prop_assert_eq!(d.degree(), c.degree() - 1);
+        for t in params(&c.domain(), c.knots(), 101) {
+            let e = (d.eval(t) - c.eval(t)).norm();
+            prop_assert!(e <= bound * (1.0 + 1e-9) + 1e-12 * curve_scale(&c), "moved {e} > bound {bound} at {t}");
+        }
+        if bound > 1e-6 {
+            let mut e = c.clone();
+            let refused = matches!(e.reduce_degree(bound * 0.5), Err(Error::Tolerance { .. }));
+            prop_assert!(refused, "a tolerance below the bound was accepted");
+            prop_assert_eq!(&e, &c);
+        }
+    }
+
+    /// Knots inserted into a curve come out again under `remove_knots_within`, and the
+    /// bound it reports holds on samples for a coarse tolerance.
+    #[test]
+    fn remove_knots_within_undoes_refinement(c in nurbs_curve(1..=4), fs in prop::collection::vec(0.01f64..0.99, 1..6)) {
+        let scale = curve_scale(&c);
+        let mut x: Vec<f64> = fs.iter().map(|&f| lerp(&c.domain(), f)).collect();
+        x.retain(|&k| c.knots().multiplicity(k, 0.0) == 0);
+        x.sort_by(f64::total_cmp);
+        x.dedup();
+        let mut d = c.clone();
+        d.refine(&x).unwrap();
+        let out = d.remove_knots_within(1e-9 * scale);
+        prop_assert!(out.removed >= x.len(), "removed {} of {} inserted", out.removed, x.len());
+        prop_assert!(d.knots().len() <= c.knots().len());
+        prop_assert!(out.bound <= 1e-9 * scale);
+        same_curve(&c, &d, 1e-8)?;
+        let mut e = c.clone();
+        let coarse = e.remove_knots_within(0.05 * scale);
+        for t in params(&c.domain(), c.knots(), 101) {
+            let dev = (e.eval(t) - c.eval(t)).norm();
+            prop_assert!(dev <= coarse.bound * (1.0 + 1e-9) + 1e-12 * scale, "moved {dev} > bound {}", coarse.bound);
+        }
+        prop_assert!(coarse.bound <= 0.05 * scale);
     }
 
     /// The same on surfaces, in u then in v.
@@ -178,4 +255,23 @@ fn periodic_surface_elevation() {
     for (u, v) in cadmorph_testkit::grid(&s, 11) {
         assert!((e.eval(u, v) - s.eval(u, v)).norm() < 1e-11);
     }
+}
+
+/// The parabola `(2t, 4t(1 − t))`, a quadratic Bézier on (0,0), (1,2), (2,0), reduced
+/// to the line from (0,0) to (2,0): the true deviation is the height 1 at t = 1/2, the
+/// bound (re-elevated middle point (1,0) against (1,2)) is 2. Below 2 it is refused.
+#[test]
+fn parabola_to_line() {
+    let k = KnotVector::clamped_uniform(2, 3);
+    let pts = vec![Point3::new(0.0, 0.0, 0.0), Point3::new(1.0, 2.0, 0.0), Point3::new(2.0, 0.0, 0.0)];
+    let c = NurbsCurve::try_new(2, k, pts, None).unwrap();
+    assert!((c.eval(0.5).y - 1.0).abs() < 1e-15);
+    let mut d = c.clone();
+    assert!(matches!(d.reduce_degree(1.5), Err(Error::Tolerance { operation: "degree reduction", .. })));
+    let bound = d.reduce_degree(2.0).unwrap();
+    assert!((bound - 2.0).abs() < 1e-15);
+    assert_eq!(d.degree(), 1);
+    assert_eq!(d.control_points(), &[Point3::new(0.0, 0.0, 0.0), Point3::new(2.0, 0.0, 0.0)]);
+    let mut line = d.clone();
+    assert!(matches!(line.reduce_degree(10.0), Err(Error::Degree { degree: 0 })));
 }
