@@ -101,7 +101,8 @@ pub enum Error {
         /// Control points.
         control_points: usize,
     },
-    /// A weight is zero or negative.
+    /// A weight is negative, or zero where zero is not accepted (surfaces; curves take
+    /// zero weights as points at infinity).
     #[error("weight {index} is {value}; weights must be positive")]
     NonPositiveWeight {
         /// Index of the weight.
@@ -149,6 +150,13 @@ pub enum Error {
         reason: String,
         /// The deviation reached, or infinity where none applies.
         reached: f64,
+    },
+    /// A Cartesian point asked for where the curve is at infinity (homogeneous weight
+    /// zero; only curves with zero weights get there).
+    #[error("the curve is at infinity at t = {parameter} (its homogeneous weight is 0)")]
+    AtInfinity {
+        /// The parameter.
+        parameter: f64,
     },
     /// A data reduction (degree reduction, knot removal) that would move the curve by
     /// more than the tolerance.

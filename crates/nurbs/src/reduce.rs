@@ -176,7 +176,7 @@ impl NurbsCurve {
         // Knots of multiplicity 1 leave the reduced curve entirely; put them back.
         let bound =
             refine_onto(p, &back_knots, &back, &ks).map_or(f64::INFINITY, |b| deviation_bound(&pw, &b, rational));
-        if !(bound <= tol) {
+        if bound.is_nan() || tol.is_nan() || bound > tol {
             return Err(Error::Tolerance { operation: "degree reduction", bound, tol });
         }
         *self = NurbsCurve::from_parts(q, knots, &pts, rational);

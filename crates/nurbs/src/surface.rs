@@ -167,7 +167,7 @@ impl NurbsSurface {
         v_knots.check_for(v_degree, n_v, "v: ")?;
         check_points(&control_points)?;
         if let Some(w) = &weights {
-            check_weights(w, control_points.len())?;
+            check_weights(w, control_points.len(), false)?;
         }
         let u_inv = inverse_denominators(u_knots.as_slice(), u_degree);
         let v_inv = inverse_denominators(v_knots.as_slice(), v_degree);

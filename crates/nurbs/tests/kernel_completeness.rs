@@ -275,3 +275,112 @@ fn parabola_to_line() {
     let mut line = d.clone();
     assert!(matches!(line.reduce_degree(10.0), Err(Error::Degree { degree: 0 })));
 }
+
+/// The full ellipse of semi-axes `a`, `b` from two infinite control points (The NURBS
+/// Book §7.3: `Pʷ = {(a,0,0,1), (0,b,0,0), (−a,0,0,1), (0,−b,0,0), (a,0,0,1)}`,
+/// `U = {0,0,0,½,½,1,1,1}`), against its closed form: on the first half, with
+/// `s = 2t`, `x = a((1−s)² − s²)/D`, `y = 2b·s(1−s)/D`, `D = (1−s)² + s²`, and the
+/// mirror image below on the second half. `a = b = 1` is the circle.
+fn infinite_point_ellipse(a: f64, b: f64) -> NurbsCurve {
+    NurbsCurve::try_new(
+        2,
+        KnotVector::try_new(vec![0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0]).unwrap(),
+        vec![
+            Point3::new(a, 0.0, 0.0),
+            Point3::new(0.0, b, 0.0),
+            Point3::new(-a, 0.0, 0.0),
+            Point3::new(0.0, -b, 0.0),
+            Point3::new(a, 0.0, 0.0),
+        ],
+        Some(vec![1.0, 0.0, 1.0, 0.0, 1.0]),
+    )
+    .unwrap()
+}
+
+fn ellipse_closed_form(a: f64, b: f64, t: f64) -> Point3<f64> {
+    let (s, sign) = if t < 0.5 { (2.0 * t, 1.0) } else { (2.0 * t - 1.0, -1.0) };
+    let d = (1.0 - s) * (1.0 - s) + s * s;
+    Point3::new(sign * a * ((1.0 - s) * (1.0 - s) - s * s) / d, sign * 2.0 * b * s * (1.0 - s) / d, 0.0)
+}
+
+#[test]
+fn zero_weight_circle_and_ellipse_match_the_closed_form() {
+    for (a, b) in [(1.0, 1.0), (3.0, 2.0), (0.5, 4.0)] {
+        let c = infinite_point_ellipse(a, b);
+        for i in 0..=200 {
+            let t = f64::from(i) / 200.0;
+            let p = c.try_eval(t).unwrap();
+            let want = ellipse_closed_form(a, b, t);
+            assert!((p - want).norm() < 1e-14 * a.max(b), "t = {t}: {p} vs {want}");
+            assert!(((p.x / a).powi(2) + (p.y / b).powi(2) - 1.0).abs() < 1e-14);
+            assert_eq!(c.eval(t), p);
+            // The homogeneous point: weight (1−s)² + s², never 0 on this curve.
+            let h = c.eval_homogeneous(t);
+            assert!(h.w >= 0.5 - 1e-15);
+        }
+        // Derivative at t = 0: dC/dt = 2 · (2b/1)·ŷ (s = 2t, dy/ds = 2b at s = 0).
+        let d = c.derivs(0.0, 1);
+        assert!((d[1] - cadmorph_nurbs::math::Vector3::new(0.0, 4.0 * b, 0.0)).norm() < 1e-12, "{:?}", d[1]);
+        // Moving the ellipse moves its centre, not its directions at infinity.
+        let m = nalgebra::Matrix4::new_translation(&cadmorph_nurbs::math::Vector3::new(5.0, -1.0, 2.0));
+        let moved = c.transformed(&m);
+        for i in 0..=20 {
+            let t = f64::from(i) / 20.0;
+            let want = ellipse_closed_form(a, b, t) + cadmorph_nurbs::math::Vector3::new(5.0, -1.0, 2.0);
+            assert!((moved.eval(t) - want).norm() < 1e-13);
+        }
+    }
+}
+
+/// A curve some of whose control points are at infinity: the exact operations keep
+/// its homogeneous form `Cʷ(t)` (they are linear maps of the homogeneous net).
+fn with_zero_weights() -> impl Strategy<Value = NurbsCurve> {
+    (nurbs_curve(2..=4), prop::collection::vec(any::<bool>(), 10)).prop_map(|(c, zero)| {
+        let n = c.control_points().len();
+        let mut w = c.weights().map_or_else(|| vec![1.0; n], <[f64]>::to_vec);
+        // Interior points only, never two side by side: the curve stays finite.
+        for i in (1..n - 1).step_by(2) {
+            if zero[i % zero.len()] {
+                w[i] = 0.0;
+            }
+        }
+        NurbsCurve::try_new(c.degree(), c.knots().clone(), c.control_points().to_vec(), Some(w)).unwrap()
+    })
+}
+
+fn same_homogeneous(a: &NurbsCurve, b: &NurbsCurve) -> Result<(), TestCaseError> {
+    let scale = curve_scale(a);
+    for t in params(&a.domain(), a.knots(), 23) {
+        let (x, y) = (a.eval_homogeneous(t), b.eval_homogeneous(t));
+        prop_assert!((x - y).norm() <= EXACT_OPS * scale, "differ at {t}: {x:?} vs {y:?}");
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    #[test]
+    fn zero_weight_curves_under_exact_operations(c in with_zero_weights(), f in 0.05f64..0.95) {
+        let u = lerp(&c.domain(), f);
+        let mut d = c.clone();
+        d.insert_knot(u, c.degree() + 1).unwrap();
+        same_homogeneous(&c, &d)?;
+        let mut e = c.clone();
+        e.elevate_degree(1).unwrap();
+        same_homogeneous(&c, &e)?;
+        let (l, r) = c.split(u).unwrap();
+        for t in params(&c.domain(), c.knots(), 17) {
+            let half = if t <= u { &l } else { &r };
+            prop_assert!((half.eval_homogeneous(t) - c.eval_homogeneous(t)).norm() <= EXACT_OPS * curve_scale(&c));
+        }
+        // The Cartesian point is the homogeneous one divided, where it is finite.
+        for t in params(&c.domain(), c.knots(), 17) {
+            let h = c.eval_homogeneous(t);
+            match c.try_eval(t) {
+                Ok(p) => prop_assert!((p.coords * h.w - h.xyz()).norm() <= 1e-12 * curve_scale(&c)),
+                Err(_) => prop_assert_eq!(h.w, 0.0),
+            }
+        }
+    }
+}
