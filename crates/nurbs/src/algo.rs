@@ -156,6 +156,21 @@ pub(crate) fn remove_knot(
     num: usize,
     tol: f64,
 ) -> usize {
+    if s > p {
+        // Multiplicity p + 1: the spline is two pieces whose end points Pw[r−p−1] and
+        // Pw[r−p] are both C(u) when it is continuous there (the inverse of the last
+        // step of [`insert_knot_full`]). One copy goes if they agree within `tol`;
+        // the midpoint replaces both, so nothing moves by more than half their gap.
+        if num == 0 || rows.iter().any(|pw| !((pw[r - p - 1] - pw[r - p]).norm() <= tol)) {
+            return 0;
+        }
+        for pw in rows.iter_mut() {
+            pw[r - p - 1] = (pw[r - p - 1] + pw[r - p]) * 0.5;
+            pw.remove(r - p);
+        }
+        knots.remove(r);
+        return 1 + remove_knot(p, knots, rows, r - 1, p, num - 1, tol);
+    }
     let n = rows[0].len() - 1;
     let m = n + p + 1;
     let u = knots[r];

@@ -73,6 +73,18 @@ proptest! {
             prop_assert!((half.eval(t) - c.eval(t)).norm() <= EXACT_OPS * scale);
         }
         prop_assert_eq!(l.control_points().len() + rr.control_points().len(), d.control_points().len());
+        // Knot removal (A5.8) takes the copies out again, the C⁻¹ one included.
+        let mut back = d.clone();
+        prop_assert_eq!(back.remove_knot(u, r, 1e-9 * scale), r);
+        prop_assert_eq!(back.knots(), c.knots());
+        same_curve(&c, &back, 1e-9)?;
+        // Bézier segments after a knot of multiplicity p + 1 are still the curve's.
+        for seg in d.bezier_segments() {
+            for i in 0..=4 {
+                let t = lerp(&seg.domain(), f64::from(i) / 4.0);
+                prop_assert!((seg.eval(t) - c.eval(t)).norm() <= EXACT_OPS * scale);
+            }
+        }
     }
 
     /// Degree reduction undoes degree elevation: same degree, knots and control points,
