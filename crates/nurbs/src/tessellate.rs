@@ -343,8 +343,33 @@ impl NurbsCurve {
     /// assert!((tight.max.y - 1.0).abs() < 2e-6); // the apex is at y = 1
     /// assert!(tight.contains(&c.eval(0.5)));
     /// ```
+    ///
+    /// With control points at infinity (weight 0) the control points do not enclose
+    /// the curve; the box is then that of the curve's degree-elevated form (A5.9),
+    /// whose every control point has a positive weight: each elevation replaces a run
+    /// of `z` zero weights by `z − 1` (the new points are combinations of neighbours
+    /// with positive coefficients). If the curve itself reaches infinity (a zero
+    /// weight at a clamped end) the box is unbounded.
     pub fn bounding_box(&self) -> Aabb {
-        Aabb::from_points(self.control_points()).expect("a curve has control points")
+        let unbounded = || Aabb {
+            min: Point3::new(f64::NEG_INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY),
+            max: Point3::new(f64::INFINITY, f64::INFINITY, f64::INFINITY),
+        };
+        let has_zero = |c: &NurbsCurve| c.weights().is_some_and(|w| w.contains(&0.0));
+        if !has_zero(self) {
+            return Aabb::from_points(self.control_points()).expect("a curve has control points");
+        }
+        let mut c = self.clamped();
+        let w = c.weights().expect("has a zero weight");
+        if w[0] == 0.0 || w[w.len() - 1] == 0.0 {
+            return unbounded();
+        }
+        while has_zero(&c) {
+            if c.elevate_degree(1).is_err() {
+                return unbounded();
+            }
+        }
+        Aabb::from_points(c.control_points()).expect("a curve has control points")
     }
 
     /// A box close to the curve: the box of a polyline within `tol` (same refinement as

@@ -333,6 +333,14 @@ fn zero_weight_circle_and_ellipse_match_the_closed_form() {
         // Derivative at t = 0: dC/dt = 2 · (2b/1)·ŷ (s = 2t, dy/ds = 2b at s = 0).
         let d = c.derivs(0.0, 1);
         assert!((d[1] - cadmorph_nurbs::math::Vector3::new(0.0, 4.0 * b, 0.0)).norm() < 1e-12, "{:?}", d[1]);
+        // The box of the ellipse is [−a, a] × [−b, b] (its control points at infinity
+        // are directions and do not bound it).
+        let bbox = c.bounding_box();
+        assert!(bbox.contains(&Point3::new(a, 0.0, 0.0)) && bbox.contains(&Point3::new(0.0, -b, 0.0)));
+        assert!(bbox.max.x <= 2.0 * a && bbox.max.y <= 2.0 * b && bbox.min.y >= -2.0 * b);
+        for i in 0..=50 {
+            assert!(bbox.contains(&c.eval(f64::from(i) / 50.0)));
+        }
         // Moving the ellipse moves its centre, not its directions at infinity.
         let m = nalgebra::Matrix4::new_translation(&cadmorph_nurbs::math::Vector3::new(5.0, -1.0, 2.0));
         let moved = c.transformed(&m);
@@ -385,6 +393,11 @@ proptest! {
         for t in params(&c.domain(), c.knots(), 17) {
             let half = if t <= u { &l } else { &r };
             prop_assert!((half.eval_homogeneous(t) - c.eval_homogeneous(t)).norm() <= EXACT_OPS * curve_scale(&c));
+        }
+        // The box encloses the curve.
+        let bbox = c.bounding_box().inflated(1e-9 * curve_scale(&c));
+        for t in params(&c.domain(), c.knots(), 17) {
+            prop_assert!(bbox.contains(&c.eval(t)), "{} outside {:?}", c.eval(t), bbox);
         }
         // The Cartesian point is the homogeneous one divided, where it is finite.
         for t in params(&c.domain(), c.knots(), 17) {
