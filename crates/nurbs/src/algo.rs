@@ -161,7 +161,11 @@ pub(crate) fn remove_knot(
         // Pw[r−p] are both C(u) when it is continuous there (the inverse of the last
         // step of [`insert_knot_full`]). One copy goes if they agree within `tol`;
         // the midpoint replaces both, so nothing moves by more than half their gap.
-        if num == 0 || rows.iter().any(|pw| !((pw[r - p - 1] - pw[r - p]).norm() <= tol)) {
+        let too_far = |pw: &Vec<Hom>| {
+            let gap = (pw[r - p - 1] - pw[r - p]).norm();
+            gap.is_nan() || gap > tol
+        };
+        if num == 0 || rows.iter().any(too_far) {
             return 0;
         }
         for pw in rows.iter_mut() {
