@@ -101,8 +101,7 @@ pub enum Error {
         /// Control points.
         control_points: usize,
     },
-    /// A weight is negative, or zero where zero is not accepted (surfaces; curves take
-    /// zero weights as points at infinity).
+    /// A weight is negative (zero is accepted: a control point at infinity).
     #[error("weight {index} is {value}; weights must be positive")]
     NonPositiveWeight {
         /// Index of the weight.
@@ -157,6 +156,15 @@ pub enum Error {
     AtInfinity {
         /// The parameter.
         parameter: f64,
+    },
+    /// A Cartesian point asked for where the surface is at infinity (homogeneous weight
+    /// zero; only surfaces with zero weights get there).
+    #[error("the surface is at infinity at (u, v) = ({u}, {v}) (its homogeneous weight is 0)")]
+    SurfaceAtInfinity {
+        /// The u parameter.
+        u: f64,
+        /// The v parameter.
+        v: f64,
     },
     /// A data reduction (degree reduction, knot removal) that would move the curve by
     /// more than the tolerance.

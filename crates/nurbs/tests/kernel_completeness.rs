@@ -409,3 +409,58 @@ proptest! {
         }
     }
 }
+
+/// The elliptic cylinder swept from the ellipse with points at infinity along z
+/// (degree (2, 1)): `S(u, v) = E(u) + (0, 0, 2v)` with `E` the closed form above.
+/// Evaluation, first derivatives, iso curves, refinement, elevation and the bounding
+/// box all see the closed form.
+#[test]
+fn zero_weight_cylinder_matches_the_closed_form() {
+    let (a, b) = (3.0, 2.0);
+    let ring = infinite_point_ellipse(a, b);
+    let mut pts = Vec::new();
+    let mut w = Vec::new();
+    for (p, &wi) in ring.control_points().iter().zip(ring.weights().unwrap()) {
+        for j in 0..2 {
+            // A direction is the same on both ends of the sweep; a point moves up.
+            let z = if wi == 0.0 { 0.0 } else { 2.0 * f64::from(j) };
+            pts.push(Point3::new(p.x, p.y, z));
+            w.push(wi);
+        }
+    }
+    let s =
+        NurbsSurface::try_new((2, 1), (ring.knots().clone(), KnotVector::clamped_uniform(1, 2)), (5, 2), pts, Some(w))
+            .unwrap();
+    let mut refined = s.clone();
+    refined.refine_u(&[0.2, 0.7]).unwrap();
+    refined.refine_v(&[0.4]).unwrap();
+    let mut elevated = s.clone();
+    elevated.elevate_u_degree(1).unwrap();
+    elevated.elevate_v_degree(1).unwrap();
+    let bbox = s.bounding_box();
+    for i in 0..=40 {
+        for j in 0..=4 {
+            let (u, v) = (f64::from(i) / 40.0, f64::from(j) / 4.0);
+            let want = ellipse_closed_form(a, b, u) + cadmorph_nurbs::math::Vector3::new(0.0, 0.0, 2.0 * v);
+            for (name, x) in [("plain", &s), ("refined", &refined), ("elevated", &elevated)] {
+                let p = x.try_eval(u, v).unwrap();
+                assert!((p - want).norm() < 1e-13, "{name} at ({u}, {v}): {p} vs {want}");
+                assert!((x.eval(u, v) - want).norm() < 1e-13, "{name}");
+            }
+            assert!(bbox.inflated(1e-12).contains(&want));
+            let d = s.eval_d1(u, v);
+            assert!((d.dv - cadmorph_nurbs::math::Vector3::new(0.0, 0.0, 2.0)).norm() < 1e-12);
+            let dc = ring.derivs(u, 1)[1];
+            assert!((d.du - dc).norm() < 1e-11 * (1.0 + dc.norm()), "{:?} vs {:?}", d.du, dc);
+        }
+    }
+    assert!(bbox.max.x <= 2.0 * a && bbox.min.y >= -2.0 * b);
+    let iso = s.v_iso(0.5);
+    for i in 0..=20 {
+        let u = f64::from(i) / 20.0;
+        assert!(
+            (iso.eval(u) - (ellipse_closed_form(a, b, u) + cadmorph_nurbs::math::Vector3::new(0.0, 0.0, 1.0))).norm()
+                < 1e-13
+        );
+    }
+}

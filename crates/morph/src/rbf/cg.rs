@@ -37,7 +37,7 @@ impl Csr {
     }
 
     /// `y = A x` and the per-column dots `xᵀ y`, rows in parallel, each block of rows
-    /// in the widest SIMD instruction set the CPU has ([`rows_mul_dot`]).
+    /// in the widest SIMD instruction set pulp finds on the CPU ([`RowsMulDot`]).
     fn mul_dot(&self, x: &[[f64; W]], y: &mut [[f64; W]]) -> [f64; W] {
         let arch = pulp::Arch::new();
         y.par_chunks_mut(ROWS)
@@ -59,8 +59,9 @@ impl Csr {
 ///
 /// For each stored entry `v = A[i, j]` the `W` columns of row `j` of `x` are loaded as
 /// `W / lanes` vectors and `v` is broadcast into one fused multiply-add per vector (two
-/// AVX2 or one AVX-512 instruction for `W = 8`), instead of `W` scalar multiplies and
-/// adds; the row's `W` accumulators stay in registers.
+/// AVX2 instructions for `W = 8`), instead of `W` scalar multiplies and adds; the row's
+/// `W` accumulators stay in registers. (pulp 0.21 reaches AVX-512 only with its nightly
+/// `nightly-x86-v4` feature, so on stable Rust the widest path is AVX2.)
 struct RowsMulDot<'a> {
     a: &'a Csr,
     x: &'a [[f64; W]],
@@ -284,7 +285,7 @@ mod tests {
         assert!((hi - (2.0 - 2.0 * (10.0 * pi / 11.0).cos())).abs() < 1e-12);
     }
 
-    /// The dispatched SIMD product (AVX-512, AVX2 or scalar, whatever this CPU has)
+    /// The dispatched SIMD product (AVX2 or scalar, whatever this CPU has)
     /// against the scalar loop, on a random sparse symmetric pattern: the same numbers
     /// up to the rounding of fused multiply-adds.
     #[test]
