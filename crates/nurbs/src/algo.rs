@@ -58,6 +58,46 @@ pub(crate) fn insert_knot(
     (uq, qw)
 }
 
+/// A5.1 extended to multiplicity `p + 1`: inserts `u` `r` times where `s + r` may
+/// reach `p + 1` (caller ensures `s + r ≤ p + 1` and `u` strictly inside the domain).
+///
+/// Up to multiplicity `p` this is [`insert_knot`]. The last copy, taking `u` from
+/// multiplicity `p` to `p + 1`, has no affine combination left to form: with `k'` the
+/// index of the last copy of `u`, every `αᵢ` of (5.15) for `k' − p + 1 ≤ i ≤ k' − p`
+/// is absent, so the new net is the old one with `Pw_{k'−p}` (the point `C(u)`)
+/// doubled. The basis then splits at `u` into two independent pieces (C⁻¹ there), as
+/// in geomdl's `insert_knot` and Splipy's `insert_knot` at full multiplicity.
+pub(crate) fn insert_knot_full(
+    p: usize,
+    knots: &[f64],
+    pw: &[Hom],
+    u: f64,
+    k: usize,
+    s: usize,
+    r: usize,
+) -> (Vec<f64>, Vec<Hom>) {
+    if s + r <= p {
+        return insert_knot(p, knots, pw, u, k, s, r);
+    }
+    let smooth = p - s;
+    let (mut uq, mut qw) =
+        if smooth > 0 { insert_knot(p, knots, pw, u, k, s, smooth) } else { (knots.to_vec(), pw.to_vec()) };
+    let last = k + smooth;
+    uq.insert(last + 1, u);
+    let on_curve = qw[last - p];
+    qw.insert(last - p + 1, on_curve);
+    (uq, qw)
+}
+
+/// The first control point of each Bézier segment of a spline whose interior knots
+/// all have multiplicity `p` or `p + 1` (after the refinement of A5.6): segment `i`
+/// over `[values[i], values[i + 1]]` starts at control point `kᵢ − p`, `kᵢ` the last
+/// index of `values[i]` in `knots`. Counting `i·p` would go wrong after a knot of
+/// multiplicity `p + 1`, where the segments do not share an end point.
+pub(crate) fn bezier_starts(p: usize, knots: &[f64], values: &[f64]) -> Vec<usize> {
+    values[..values.len() - 1].iter().map(|&v| knots.partition_point(|&k| k <= v) - 1 - p).collect()
+}
+
 /// A5.4: inserts all of `x` (sorted, inside the domain) at once.
 pub(crate) fn refine(p: usize, knots: &[f64], pw: &[Hom], x: &[f64]) -> (Vec<f64>, Vec<Hom>) {
     if x.is_empty() {
@@ -116,6 +156,25 @@ pub(crate) fn remove_knot(
     num: usize,
     tol: f64,
 ) -> usize {
+    if s > p {
+        // Multiplicity p + 1: the spline is two pieces whose end points Pw[r−p−1] and
+        // Pw[r−p] are both C(u) when it is continuous there (the inverse of the last
+        // step of [`insert_knot_full`]). One copy goes if they agree within `tol`;
+        // the midpoint replaces both, so nothing moves by more than half their gap.
+        let too_far = |pw: &Vec<Hom>| {
+            let gap = (pw[r - p - 1] - pw[r - p]).norm();
+            gap.is_nan() || gap > tol
+        };
+        if num == 0 || rows.iter().any(too_far) {
+            return 0;
+        }
+        for pw in rows.iter_mut() {
+            pw[r - p - 1] = (pw[r - p - 1] + pw[r - p]) * 0.5;
+            pw.remove(r - p);
+        }
+        knots.remove(r);
+        return 1 + remove_knot(p, knots, rows, r - 1, p, num - 1, tol);
+    }
     let n = rows[0].len() - 1;
     let m = n + p + 1;
     let u = knots[r];

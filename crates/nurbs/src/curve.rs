@@ -50,7 +50,9 @@ pub(crate) fn check_points(points: &[Point3<f64>]) -> Result<()> {
     Ok(())
 }
 
-pub(crate) fn check_weights(weights: &[f64], n: usize) -> Result<()> {
+/// Checks the weights: as many as control points, finite, and positive, or zero
+/// where `allow_zero` (a control point at infinity, The NURBS Book §7.3).
+pub(crate) fn check_weights(weights: &[f64], n: usize, allow_zero: bool) -> Result<()> {
     if weights.len() != n {
         return Err(Error::WeightCount { weights: weights.len(), control_points: n });
     }
@@ -58,22 +60,38 @@ pub(crate) fn check_weights(weights: &[f64], n: usize) -> Result<()> {
         if !value.is_finite() {
             return Err(Error::NotFinite { what: "weight", index, value });
         }
-        if value <= 0.0 {
+        if value < 0.0 || (value == 0.0 && !allow_zero) {
             return Err(Error::NonPositiveWeight { index, value });
         }
     }
     Ok(())
 }
 
+/// The homogeneous point `(w·x, w·y, w·z, w)` of a control point, or `(x, y, z, 0)`
+/// for a weight of zero: a point at infinity stores its direction (The NURBS Book
+/// §7.3, infinite control points) in place of a Cartesian position.
+#[inline(always)]
+pub(crate) fn hom_of(p: &Point3<f64>, w: f64) -> Hom {
+    let s = if w == 0.0 { 1.0 } else { w };
+    Hom::new(p.x * s, p.y * s, p.z * s, w)
+}
+
 pub(crate) fn to_hom(points: &[Point3<f64>], weights: Option<&[f64]>) -> Vec<Hom> {
     match weights {
-        Some(w) => points.iter().zip(w).map(|(p, &w)| Hom::new(p.x * w, p.y * w, p.z * w, w)).collect(),
+        Some(w) => points.iter().zip(w).map(|(p, &w)| hom_of(p, w)).collect(),
         None => points.iter().map(|p| Hom::new(p.x, p.y, p.z, 1.0)).collect(),
     }
 }
 
+/// The inverse of [`to_hom`]: Cartesian points (directions where `w = 0`) and weights.
 pub(crate) fn from_hom(pw: &[Hom], rational: bool) -> (Vec<Point3<f64>>, Option<Vec<f64>>) {
-    let points = pw.iter().map(|h| Point3::new(h.x / h.w, h.y / h.w, h.z / h.w)).collect();
+    let points = pw
+        .iter()
+        .map(|h| {
+            let s = if h.w == 0.0 { 1.0 } else { h.w };
+            Point3::new(h.x / s, h.y / s, h.z / s)
+        })
+        .collect();
     let weights = rational.then(|| pw.iter().map(|h| h.w).collect());
     (points, weights)
 }
@@ -106,6 +124,13 @@ pub(crate) fn binomial(n: usize, k: usize) -> f64 {
 impl NurbsCurve {
     /// Builds a curve of degree `degree`, checking everything.
     ///
+    /// A weight may be zero: that control point is a point at infinity and
+    /// `control_points[i]` holds its direction, the vector part of the homogeneous
+    /// point `(x, y, z, 0)` (The NURBS Book §7.3; Splipy stores such points too). The
+    /// curve is then evaluated in homogeneous form ([`eval_homogeneous`](Self::eval_homogeneous));
+    /// only where all weight falls on such points (`w(t) = 0`) is the curve itself at
+    /// infinity, and [`try_eval`](Self::try_eval) refuses there.
+    ///
     /// # Errors
     ///
     /// [`Error::Degree`], [`Error::TooFewControlPoints`], [`Error::KnotCount`],
@@ -120,7 +145,7 @@ impl NurbsCurve {
         knots.check_for(degree, control_points.len(), "")?;
         check_points(&control_points)?;
         if let Some(w) = &weights {
-            check_weights(w, control_points.len())?;
+            check_weights(w, control_points.len(), true)?;
         }
         Ok(Self { degree, knots, control_points, weights })
     }
@@ -174,8 +199,17 @@ impl NurbsCurve {
     /// # Panics
     ///
     /// If the last row of `m` is not `0 0 0 1` (a projective map would change the weights).
+    ///
+    /// A control point at infinity (weight 0) is a direction: it takes the linear part
+    /// of `m` only.
     pub fn transform_by(&mut self, m: &nalgebra::Matrix4<f64>) {
         crate::curve::transform_points(&mut self.control_points, m);
+        if let Some(w) = &self.weights {
+            let translation = m.fixed_view::<3, 1>(0, 3).into_owned();
+            for (p, _) in self.control_points.iter_mut().zip(w).filter(|(_, &w)| w == 0.0) {
+                p.coords -= translation;
+            }
+        }
     }
 
     /// A copy with the affine map `m` applied; see [`transform_by`](Self::transform_by).
@@ -234,8 +268,13 @@ impl NurbsCurve {
     }
 
     /// Inserts the knot `u` `times` times (Piegl & Tiller A5.1); the geometry does not
-    /// change. The multiplicity is capped at the degree: returns how many copies were
-    /// actually inserted.
+    /// change. Returns how many copies were actually inserted: the multiplicity is
+    /// capped at `p + 1` strictly inside the domain and at `p` on its ends.
+    ///
+    /// At multiplicity `p + 1` the control point `C(u)` is doubled and the curve falls
+    /// apart into two pieces joined only by position: it is C⁻¹ there in the sense of
+    /// the basis (moving one of the two doubled points opens a gap), as geomdl, verb and
+    /// Splipy allow. Evaluation at `u` itself takes the piece on the right.
     ///
     /// # Errors
     ///
@@ -243,11 +282,11 @@ impl NurbsCurve {
     pub fn insert_knot(&mut self, u: f64, times: usize) -> Result<usize> {
         self.check_inside(u)?;
         let (k, s) = algo::insertion_span(self.knots.as_slice(), u);
-        let r = times.min(self.degree.saturating_sub(s));
+        let r = times.min(max_insertion(self.knots.domain(self.degree), self.degree, u).saturating_sub(s));
         if r == 0 {
             return Ok(0);
         }
-        let (knots, pw) = algo::insert_knot(self.degree, self.knots.as_slice(), &self.homogeneous(), u, k, s, r);
+        let (knots, pw) = algo::insert_knot_full(self.degree, self.knots.as_slice(), &self.homogeneous(), u, k, s, r);
         *self = Self::from_parts(self.degree, knots, &pw, self.is_rational());
         Ok(r)
     }
@@ -296,7 +335,11 @@ impl NurbsCurve {
     }
 
     /// Raises the degree by `t` without changing the geometry (Piegl & Tiller A5.9).
-    /// An unclamped curve is clamped first.
+    ///
+    /// An unclamped curve stays unclamped: it is clamped, elevated and unclamped again
+    /// (A12.1) onto outer knots whose runs each gain `t` copies, like the interior
+    /// ones. A periodic curve (from [`try_periodic`](Self::try_periodic)) therefore
+    /// comes back periodic, its first `p + t` control points repeating at the end.
     ///
     /// # Errors
     ///
@@ -305,9 +348,16 @@ impl NurbsCurve {
         if self.degree + t > MAX_DEGREE {
             return Err(Error::Degree { degree: self.degree + t });
         }
-        let c = self.clamped();
-        let (knots, pw) = algo::elevate_degree(c.degree, c.knots.as_slice(), &c.homogeneous(), t);
-        *self = Self::from_parts(c.degree + t, knots, &pw, c.is_rational());
+        if t == 0 {
+            return Ok(());
+        }
+        let p = self.degree;
+        let (knots, pw) = if self.knots.is_clamped(p) {
+            algo::elevate_degree(p, self.knots.as_slice(), &self.homogeneous(), t)
+        } else {
+            crate::unclamp::elevate_unclamped(p, self.knots.as_slice(), &self.homogeneous(), t)
+        };
+        *self = Self::from_parts(p + t, knots, &pw, self.is_rational());
         Ok(())
     }
 
@@ -334,14 +384,15 @@ impl NurbsCurve {
         for (&v, &m) in values[1..values.len() - 1].iter().zip(&mults[1..mults.len() - 1]) {
             x.extend(std::iter::repeat_n(v, p.saturating_sub(m)));
         }
-        let (_, pw) = algo::refine(p, c.knots.as_slice(), &c.homogeneous(), &x);
+        let (refined, pw) = algo::refine(p, c.knots.as_slice(), &c.homogeneous(), &x);
+        let starts = algo::bezier_starts(p, &refined, &values);
         values
             .windows(2)
-            .enumerate()
-            .map(|(i, w)| {
+            .zip(starts)
+            .map(|(w, first)| {
                 let mut knots = vec![w[0]; p + 1];
                 knots.extend(std::iter::repeat_n(w[1], p + 1));
-                Self::from_parts(p, knots, &pw[i * p..=i * p + p], c.is_rational())
+                Self::from_parts(p, knots, &pw[first..=first + p], c.is_rational())
             })
             .collect()
     }
@@ -349,7 +400,9 @@ impl NurbsCurve {
     /// Splits the curve at `t` into the parts on `[a, t]` and `[t, b]`.
     ///
     /// `c.split(t).0.eval(u)` is the same point as `c.eval(u)` for `u ≤ t`, and
-    /// `.1.eval(u)` for `u ≥ t`.
+    /// `.1.eval(u)` for `u ≥ t`. A knot of multiplicity `p + 1` at `t` (a C⁻¹ joint, see
+    /// [`insert_knot`](Self::insert_knot)) is split without change: the left part ends
+    /// on the left piece's last control point, the right part starts on the other.
     ///
     /// # Errors
     ///
@@ -361,7 +414,8 @@ impl NurbsCurve {
         }
         let mut c = self.clamped();
         let p = c.degree;
-        c.insert_knot(t, p)?;
+        let present = c.knots.as_slice().iter().filter(|&&k| k == t).count();
+        c.insert_knot(t, p.saturating_sub(present))?;
         let ks = c.knots.as_slice();
         let a = ks.partition_point(|&k| k < t);
         let s = ks.iter().filter(|&&k| k == t).count();
@@ -385,6 +439,39 @@ impl NurbsCurve {
             control_points: self.control_points.iter().rev().copied().collect(),
             weights: self.weights.as_ref().map(|w| w.iter().rev().copied().collect()),
         }
+    }
+
+    /// The homogeneous point `Cʷ(t) = Σ Nᵢ,ₚ(t) Pᵢʷ = (w·x, w·y, w·z, w)` (Piegl &
+    /// Tiller Eq. 4.5, A4.1 before its division). It is finite everywhere, also where
+    /// the curve passes through infinity (`w(t) = 0`, possible with zero weights); for
+    /// a non-rational curve `w = 1`.
+    pub fn eval_homogeneous(&self, t: f64) -> nalgebra::Vector4<f64> {
+        let p = self.degree;
+        let ks = self.knots.as_slice();
+        let span = crate::knots::find_span(ks, p, t);
+        let mut n = vec![0.0; p + 1];
+        let mut left = vec![0.0; p + 1];
+        let mut right = vec![0.0; p + 1];
+        basis_funs_into(ks, span, t, p, &mut n, &mut left, &mut right);
+        let first = span - p;
+        let w = self.weights.as_deref();
+        (0..=p).fold(Hom::zeros(), |acc, j| {
+            acc + hom_of(&self.control_points[first + j], w.map_or(1.0, |w| w[first + j])) * n[j]
+        })
+    }
+
+    /// The point `C(t)`, refused where the curve is at infinity.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::AtInfinity`] where the homogeneous weight `w(t)` is zero (only
+    /// possible with zero weights, see [`try_new`](Self::try_new)).
+    pub fn try_eval(&self, t: f64) -> Result<Point3<f64>> {
+        let h = self.eval_homogeneous(t);
+        if h.w == 0.0 {
+            return Err(Error::AtInfinity { parameter: t });
+        }
+        Ok(Point3::from(h.xyz() / h.w))
     }
 
     /// Evaluation with stack buffers for degrees up to 15.
@@ -417,16 +504,24 @@ impl NurbsCurve {
                 Point3::from(acc)
             }
             Some(w) => {
-                let mut acc = Vector3::zeros();
-                let mut wsum = 0.0;
+                let mut acc = Hom::zeros();
                 for j in 0..=p {
-                    let nw = n[j] * w[first + j];
-                    acc += self.control_points[first + j].coords * nw;
-                    wsum += nw;
+                    acc += hom_of(&self.control_points[first + j], w[first + j]) * n[j];
                 }
-                Point3::from(acc / wsum)
+                Point3::from(acc.xyz() / acc.w)
             }
         }
+    }
+}
+
+/// The highest multiplicity knot insertion may reach at `u`: `p + 1` strictly inside
+/// the domain (the spline splits there), `p` on its ends (a `(p + 1)`-th copy would
+/// leave an empty end piece).
+pub(crate) fn max_insertion(domain: RangeInclusive<f64>, p: usize, u: f64) -> usize {
+    if u > *domain.start() && u < *domain.end() {
+        p + 1
+    } else {
+        p
     }
 }
 
@@ -490,9 +585,8 @@ impl Curve for NurbsCurve {
         let w = self.weights.as_deref();
         for (k, hd) in hders.iter_mut().enumerate() {
             for j in 0..=p {
-                let pt = self.control_points[first + j];
                 let wj = w.map_or(1.0, |w| w[first + j]);
-                *hd += Hom::new(pt.x * wj, pt.y * wj, pt.z * wj, wj) * nders[k][j];
+                *hd += hom_of(&self.control_points[first + j], wj) * nders[k][j];
             }
         }
         rational_curve_derivs(&hders)

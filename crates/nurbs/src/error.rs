@@ -101,7 +101,7 @@ pub enum Error {
         /// Control points.
         control_points: usize,
     },
-    /// A weight is zero or negative.
+    /// A weight is negative (zero is accepted: a control point at infinity).
     #[error("weight {index} is {value}; weights must be positive")]
     NonPositiveWeight {
         /// Index of the weight.
@@ -149,6 +149,33 @@ pub enum Error {
         reason: String,
         /// The deviation reached, or infinity where none applies.
         reached: f64,
+    },
+    /// A Cartesian point asked for where the curve is at infinity (homogeneous weight
+    /// zero; only curves with zero weights get there).
+    #[error("the curve is at infinity at t = {parameter} (its homogeneous weight is 0)")]
+    AtInfinity {
+        /// The parameter.
+        parameter: f64,
+    },
+    /// A Cartesian point asked for where the surface is at infinity (homogeneous weight
+    /// zero; only surfaces with zero weights get there).
+    #[error("the surface is at infinity at (u, v) = ({u}, {v}) (its homogeneous weight is 0)")]
+    SurfaceAtInfinity {
+        /// The u parameter.
+        u: f64,
+        /// The v parameter.
+        v: f64,
+    },
+    /// A data reduction (degree reduction, knot removal) that would move the curve by
+    /// more than the tolerance.
+    #[error("{operation}: the curve would move by more than {tol}{}", if bound.is_finite() { format!(" (bound {bound:e})") } else { String::from(" (no bound: a knot cannot be removed within it, or a weight would not stay positive)") })]
+    Tolerance {
+        /// `"degree reduction"`.
+        operation: &'static str,
+        /// The deviation bound reached, or infinity where a step failed before it.
+        bound: f64,
+        /// The tolerance asked for.
+        tol: f64,
     },
 }
 

@@ -2,13 +2,15 @@
 //!
 //! `cadmorph-nurbs` owns the geometry of cadmorph: knot vectors, B-spline basis
 //! functions, [`NurbsCurve`] and [`NurbsSurface`] with rational and non-rational
-//! evaluation, derivatives of any order, knot insertion, refinement and removal,
-//! degree elevation, Bézier decomposition, splitting, reversal, iso and boundary
-//! curves. It knows nothing of files or deformations; see `cadmorph-iges`,
+//! evaluation, derivatives of any order, knot insertion (up to multiplicity p + 1),
+//! refinement and removal, degree elevation (periodic splines stay periodic), degree
+//! reduction and removal of every removable knot within a tolerance (with deviation
+//! bounds), Bézier decomposition, splitting, reversal, iso and boundary curves, and
+//! control points at infinity (weight 0, evaluated in homogeneous form). It knows nothing of files or deformations; see `cadmorph-iges`,
 //! `cadmorph-step` and `cadmorph-morph`.
 //!
 //! The algorithms are those of Piegl & Tiller, *The NURBS Book* (2nd ed.), cited by
-//! number (A2.1 … A5.9) where they are implemented. They are written here rather than
+//! number (A2.1 … A5.11, A12.1) where they are implemented. They are written here rather than
 //! taken from a crate because cadmorph needs all of them on one representation with
 //! OCCT-grade accuracy and typed errors: `truck-geometry` lacks knot removal and
 //! rational surface derivatives of arbitrary order, and `curvo` (used as a test oracle)
@@ -37,9 +39,11 @@ mod error;
 mod fit;
 mod knots;
 mod project;
+mod reduce;
 mod surface;
 mod tessellate;
 pub mod tol;
+mod unclamp;
 
 pub use basis::{basis_funs, ders_basis_funs};
 pub use curve::NurbsCurve;
@@ -47,6 +51,7 @@ pub use error::{Error, Result};
 pub use fit::{fit_curve, greville, interpolate};
 pub use knots::KnotVector;
 pub use project::{CurveProject, CurveProjection, Projection, SurfaceProject};
+pub use reduce::KnotRemoval;
 pub use surface::{NurbsSurface, Side, SurfaceDerivs, SurfacePointD1};
 pub use tessellate::{Aabb, Mesh};
 

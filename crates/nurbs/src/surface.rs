@@ -7,7 +7,8 @@ use nalgebra::{Point3, Unit, Vector3};
 use crate::algo::{self, Hom};
 use crate::basis::{basis_funs_into, ders_basis_funs_into};
 use crate::curve::{
-    binomial, check_points, check_weights, clamp_hom, from_hom, homogeneous_tol, prepare_refinement, to_hom,
+    binomial, check_points, check_weights, clamp_hom, from_hom, hom_of, homogeneous_tol, max_insertion,
+    prepare_refinement, to_hom,
 };
 use crate::{Error, KnotVector, NurbsCurve, Result, Surface, MAX_DEGREE};
 
@@ -42,6 +43,9 @@ pub struct NurbsSurface {
     /// [`inverse_denominators`]); they make the hot evaluation paths division-free.
     u_inv: Vec<f64>,
     v_inv: Vec<f64>,
+    /// Whether a weight is zero (a control point at infinity): evaluation then takes
+    /// the homogeneous general path, the fast paths assume positive weights.
+    infinite: bool,
 }
 
 /// The reciprocals `1 / (u_{i+r+1} − u_{i+1−j+r})` that A2.2 divides by, for every span
@@ -149,6 +153,10 @@ impl NurbsSurface {
     /// Builds a surface, checking everything. `control_points` is the `n_u × n_v` net
     /// row by row (`i * n_v + j`), `weights` the same layout.
     ///
+    /// A weight may be zero: that control point is at infinity and holds a direction,
+    /// as for [`NurbsCurve::try_new`]; [`try_eval`](Self::try_eval) refuses the
+    /// parameters where the surface itself is at infinity.
+    ///
     /// # Errors
     ///
     /// [`Error::NetSize`], and those of [`NurbsCurve::try_new`] per direction.
@@ -166,11 +174,12 @@ impl NurbsSurface {
         v_knots.check_for(v_degree, n_v, "v: ")?;
         check_points(&control_points)?;
         if let Some(w) = &weights {
-            check_weights(w, control_points.len())?;
+            check_weights(w, control_points.len(), true)?;
         }
         let u_inv = inverse_denominators(u_knots.as_slice(), u_degree);
         let v_inv = inverse_denominators(v_knots.as_slice(), v_degree);
-        Ok(Self { u_degree, v_degree, u_knots, v_knots, n_u, n_v, control_points, weights, u_inv, v_inv })
+        let infinite = has_zero_weight(weights.as_deref());
+        Ok(Self { u_degree, v_degree, u_knots, v_knots, n_u, n_v, control_points, weights, u_inv, v_inv, infinite })
     }
 
     /// Like [`try_new`](Self::try_new).
@@ -204,7 +213,9 @@ impl NurbsSurface {
         rational: bool,
     ) -> Self {
         let (control_points, weights) = from_hom(pw, rational);
+        let infinite = has_zero_weight(weights.as_deref());
         Self {
+            infinite,
             u_degree: degrees.0,
             v_degree: degrees.1,
             u_inv: inverse_denominators(&knots.0, degrees.0),
@@ -225,8 +236,52 @@ impl NurbsSurface {
     /// # Panics
     ///
     /// If the last row of `m` is not `0 0 0 1` (a projective map would change the weights).
+    ///
+    /// A control point at infinity (weight 0) is a direction: it takes the linear part
+    /// of `m` only.
     pub fn transform_by(&mut self, m: &nalgebra::Matrix4<f64>) {
         crate::curve::transform_points(&mut self.control_points, m);
+        if let Some(w) = self.weights.as_ref().filter(|_| self.infinite) {
+            let translation = m.fixed_view::<3, 1>(0, 3).into_owned();
+            for (p, _) in self.control_points.iter_mut().zip(w).filter(|(_, &w)| w == 0.0) {
+                p.coords -= translation;
+            }
+        }
+    }
+
+    /// The homogeneous point `Sʷ(u, v) = Σ Nᵢ,ₚ(u) Nⱼ,q(v) Pᵢⱼʷ` (Piegl & Tiller
+    /// Eq. 4.15 before the division, A4.3): finite everywhere, also where the surface
+    /// is at infinity (zero weights); `w = 1` for a non-rational surface.
+    pub fn eval_homogeneous(&self, u: f64, v: f64) -> nalgebra::Vector4<f64> {
+        let (p, q) = (self.u_degree, self.v_degree);
+        let (uk, vk) = (self.u_knots.as_slice(), self.v_knots.as_slice());
+        let su = crate::knots::find_span(uk, p, u);
+        let sv = crate::knots::find_span(vk, q, v);
+        let nu = crate::basis::basis_funs(&self.u_knots, p, u);
+        let nv = crate::basis::basis_funs(&self.v_knots, q, v);
+        let w = self.weights.as_deref();
+        let mut acc = Hom::zeros();
+        for (k, &a) in nu.iter().enumerate() {
+            for (l, &b) in nv.iter().enumerate() {
+                let idx = (su - p + k) * self.n_v + sv - q + l;
+                acc += hom_of(&self.control_points[idx], w.map_or(1.0, |w| w[idx])) * (a * b);
+            }
+        }
+        acc
+    }
+
+    /// The point `S(u, v)`, refused where the surface is at infinity.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::SurfaceAtInfinity`] where the homogeneous weight is zero (only possible
+    /// with zero weights).
+    pub fn try_eval(&self, u: f64, v: f64) -> Result<Point3<f64>> {
+        let h = self.eval_homogeneous(u, v);
+        if h.w == 0.0 {
+            return Err(Error::SurfaceAtInfinity { u, v });
+        }
+        Ok(Point3::from(h.xyz() / h.w))
     }
 
     /// A copy with the affine map `m` applied; see [`transform_by`](Self::transform_by).
@@ -401,11 +456,14 @@ impl NurbsSurface {
             weights: w,
             u_inv: self.v_inv.clone(),
             v_inv: self.u_inv.clone(),
+            infinite: self.infinite,
         }
     }
 
     /// Inserts the knot `u` `times` times in the u direction (A5.1 per column);
-    /// returns the copies actually inserted (the multiplicity is capped at the degree).
+    /// returns the copies actually inserted. As for [`NurbsCurve::insert_knot`], the
+    /// multiplicity is capped at `p + 1` strictly inside the domain (the surface then
+    /// splits into two patches joined only by position along `u`) and `p` on its ends.
     ///
     /// # Errors
     ///
@@ -414,11 +472,11 @@ impl NurbsSurface {
         check_in(&self.u_knots, self.u_degree, u)?;
         let p = self.u_degree;
         let (k, s) = algo::insertion_span(self.u_knots.as_slice(), u);
-        let r = times.min(p.saturating_sub(s));
+        let r = times.min(max_insertion(self.u_knots.domain(p), p, u).saturating_sub(s));
         if r == 0 {
             return Ok(0);
         }
-        *self = self.map_u_rows(p, |knots, c| algo::insert_knot(p, knots, c, u, k, s, r));
+        *self = self.map_u_rows(p, |knots, c| algo::insert_knot_full(p, knots, c, u, k, s, r));
         Ok(r)
     }
 
@@ -497,8 +555,9 @@ impl NurbsSurface {
         r
     }
 
-    /// Raises the u degree by `t` (A5.9 on every column; unclamped directions are
-    /// clamped first). The geometry does not change.
+    /// Raises the u degree by `t` (A5.9 on every column). The geometry does not
+    /// change; an unclamped (periodic) u direction stays unclamped, as in
+    /// [`NurbsCurve::elevate_degree`] (clamp, elevate, unclamp with A12.1).
     ///
     /// # Errors
     ///
@@ -508,9 +567,13 @@ impl NurbsSurface {
             return Err(Error::Degree { degree: self.u_degree + t });
         }
         let p = self.u_degree;
+        let clamped = self.u_knots.is_clamped(p);
         *self = self.map_u_rows(p + t, |knots, c| {
-            let (ck, cp) = clamp_hom(p, knots, c);
-            algo::elevate_degree(p, &ck, &cp, t)
+            if clamped || t == 0 {
+                algo::elevate_degree(p, knots, c, t)
+            } else {
+                crate::unclamp::elevate_unclamped(p, knots, c, t)
+            }
         });
         Ok(())
     }
@@ -546,6 +609,8 @@ impl NurbsSurface {
         c.refine_u(&xu).expect("interior knots raised to the degree");
         c.refine_v(&xv).expect("interior knots raised to the degree");
         let pw = c.homogeneous();
+        let u_starts = algo::bezier_starts(p, c.u_knots.as_slice(), &uvals);
+        let v_starts = algo::bezier_starts(q, c.v_knots.as_slice(), &vvals);
         let bez = |a: f64, b: f64, d: usize| {
             let mut k = vec![a; d + 1];
             k.extend(std::iter::repeat_n(b, d + 1));
@@ -553,15 +618,15 @@ impl NurbsSurface {
         };
         uvals
             .windows(2)
-            .enumerate()
-            .map(|(a, uw)| {
+            .zip(&u_starts)
+            .map(|(uw, &a)| {
                 vvals
                     .windows(2)
-                    .enumerate()
-                    .map(|(b, vw)| {
+                    .zip(&v_starts)
+                    .map(|(vw, &b)| {
                         let mut net = Vec::with_capacity((p + 1) * (q + 1));
-                        for i in a * p..=a * p + p {
-                            for j in b * q..=b * q + q {
+                        for i in a..=a + p {
+                            for j in b..=b + q {
                                 net.push(pw[i * c.n_v + j]);
                             }
                         }
@@ -671,6 +736,10 @@ impl NurbsSurface {
     pub fn eval_d1(&self, u: f64, v: f64) -> SurfacePointD1 {
         let (p, q) = (self.u_degree, self.v_degree);
         match p.max(q) {
+            _ if self.infinite => {
+                let d = self.derivs_general(u, v, 1);
+                SurfacePointD1 { point: d.point(), du: d[(1, 0)], dv: d[(0, 1)] }
+            }
             _ if (p, q) == (3, 3) => self.eval_d1_n::<4>(u, v, 3, 3),
             0..=3 => self.eval_d1_n::<4>(u, v, p, q),
             4..=7 => self.eval_d1_n::<8>(u, v, p, q),
@@ -754,9 +823,8 @@ impl NurbsSurface {
         ders_basis_funs_into(vk, sv, v, q, n, &mut nv);
         let w = self.weights.as_deref();
         let hom = |i: usize, j: usize| {
-            let c = self.control_points[i * self.n_v + j];
             let wi = w.map_or(1.0, |w| w[i * self.n_v + j]);
-            Hom::new(c.x * wi, c.y * wi, c.z * wi, wi)
+            hom_of(&self.control_points[i * self.n_v + j], wi)
         };
         let dim = n + 1;
         let mut h = vec![Hom::zeros(); dim * dim];
@@ -892,6 +960,7 @@ impl Surface for NurbsSurface {
     fn eval(&self, u: f64, v: f64) -> Point3<f64> {
         let (p, q) = (self.u_degree, self.v_degree);
         match p.max(q) {
+            _ if self.infinite => self.derivs_general(u, v, 0).point(),
             _ if (p, q) == (3, 3) => self.eval_n::<4>(u, v, 3, 3),
             0..=3 => self.eval_n::<4>(u, v, p, q),
             4..=7 => self.eval_n::<8>(u, v, p, q),
@@ -914,4 +983,9 @@ impl Surface for NurbsSurface {
         }
         Unit::try_new(n, 0.0)
     }
+}
+
+/// Whether any weight is zero (a control point at infinity).
+fn has_zero_weight(weights: Option<&[f64]>) -> bool {
+    weights.is_some_and(|w| w.contains(&0.0))
 }

@@ -182,8 +182,38 @@ impl NurbsSurface {
     /// assert!(b.contains(&s.eval(0.3, 0.6)));
     /// assert_eq!(b.max.z, 1.0);
     /// ```
+    ///
+    /// With control points at infinity (weight 0) the box is that of the surface
+    /// elevated in both directions until every weight is positive, as for
+    /// [`NurbsCurve::bounding_box`]; unbounded if that does not happen (the surface
+    /// reaches infinity).
     pub fn bounding_box(&self) -> Aabb {
-        Aabb::from_points(self.control_points()).expect("a surface has control points")
+        let has_zero = |s: &NurbsSurface| s.weights().is_some_and(|w| w.contains(&0.0));
+        if !has_zero(self) {
+            return Aabb::from_points(self.control_points()).expect("a surface has control points");
+        }
+        let unbounded = Aabb {
+            min: Point3::new(f64::NEG_INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY),
+            max: Point3::new(f64::INFINITY, f64::INFINITY, f64::INFINITY),
+        };
+        let mut s = self.clamped();
+        let (n_u, n_v) = (s.n_u(), s.n_v());
+        let w = s.weights().expect("has a zero weight");
+        // A zero weight at a corner of the clamped net puts the surface at infinity there.
+        if [0, n_v - 1, (n_u - 1) * n_v, n_u * n_v - 1].iter().any(|&i| w[i] == 0.0) {
+            return unbounded;
+        }
+        // Each elevation shortens every run of zero weights along its direction by one;
+        // a run along a whole row or column would need as many as the net is long.
+        for _ in 0..n_u.max(n_v) {
+            if !has_zero(&s) {
+                return Aabb::from_points(s.control_points()).expect("a surface has control points");
+            }
+            if s.elevate_u_degree(1).and_then(|_| s.elevate_v_degree(1)).is_err() {
+                break;
+            }
+        }
+        unbounded
     }
 
     /// A box that is close to the surface: the box of a tessellation within `tol`,
@@ -343,8 +373,33 @@ impl NurbsCurve {
     /// assert!((tight.max.y - 1.0).abs() < 2e-6); // the apex is at y = 1
     /// assert!(tight.contains(&c.eval(0.5)));
     /// ```
+    ///
+    /// With control points at infinity (weight 0) the control points do not enclose
+    /// the curve; the box is then that of the curve's degree-elevated form (A5.9),
+    /// whose every control point has a positive weight: each elevation replaces a run
+    /// of `z` zero weights by `z − 1` (the new points are combinations of neighbours
+    /// with positive coefficients). If the curve itself reaches infinity (a zero
+    /// weight at a clamped end) the box is unbounded.
     pub fn bounding_box(&self) -> Aabb {
-        Aabb::from_points(self.control_points()).expect("a curve has control points")
+        let unbounded = || Aabb {
+            min: Point3::new(f64::NEG_INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY),
+            max: Point3::new(f64::INFINITY, f64::INFINITY, f64::INFINITY),
+        };
+        let has_zero = |c: &NurbsCurve| c.weights().is_some_and(|w| w.contains(&0.0));
+        if !has_zero(self) {
+            return Aabb::from_points(self.control_points()).expect("a curve has control points");
+        }
+        let mut c = self.clamped();
+        let w = c.weights().expect("has a zero weight");
+        if w[0] == 0.0 || w[w.len() - 1] == 0.0 {
+            return unbounded();
+        }
+        while has_zero(&c) {
+            if c.elevate_degree(1).is_err() {
+                return unbounded();
+            }
+        }
+        Aabb::from_points(c.control_points()).expect("a curve has control points")
     }
 
     /// A box close to the curve: the box of a polyline within `tol` (same refinement as

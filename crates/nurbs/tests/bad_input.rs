@@ -53,11 +53,25 @@ fn wrong_counts() {
 
 #[test]
 fn zero_and_negative_weights() {
-    for (w, index) in [(vec![1.0, 0.0, 1.0], 1), (vec![1.0, 1.0, -2.0], 2)] {
+    for (w, index) in [(vec![1.0, -0.5, 1.0], 1), (vec![1.0, 1.0, -2.0], 2)] {
         let value = w[index];
         let e = NurbsCurve::try_new(2, KnotVector::clamped_uniform(2, 3), pts(3), Some(w)).unwrap_err();
         assert_eq!(e, Error::NonPositiveWeight { index, value });
     }
+    // Curves and surfaces take a weight of zero (a point at infinity), not a negative one.
+    assert!(NurbsCurve::try_new(2, KnotVector::clamped_uniform(2, 3), pts(3), Some(vec![1.0, 0.0, 1.0])).is_ok());
+    let k = || KnotVector::clamped_uniform(1, 2);
+    let s = NurbsSurface::try_new((1, 1), (k(), k()), (2, 2), pts(4), Some(vec![1.0, 0.0, 1.0, 1.0])).unwrap();
+    // The corner (0, 1) carries all the weight at (u, v) = (0, 1).
+    assert_eq!(s.try_eval(0.0, 1.0), Err(Error::SurfaceAtInfinity { u: 0.0, v: 1.0 }));
+    assert!(s.try_eval(0.5, 0.5).is_ok());
+    assert!(s.bounding_box().max.x.is_infinite());
+    let e = NurbsSurface::try_new((1, 1), (k(), k()), (2, 2), pts(4), Some(vec![1.0, -1.0, 1.0, 1.0])).unwrap_err();
+    assert_eq!(e, Error::NonPositiveWeight { index: 1, value: -1.0 });
+    // Where all the weight sits on a point at infinity, no Cartesian point is given.
+    let c = NurbsCurve::try_new(2, KnotVector::clamped_uniform(2, 3), pts(3), Some(vec![0.0, 1.0, 1.0])).unwrap();
+    assert_eq!(c.try_eval(0.0), Err(Error::AtInfinity { parameter: 0.0 }));
+    assert!(c.try_eval(0.5).is_ok());
 }
 
 #[test]
@@ -96,6 +110,10 @@ fn messages_read_well() {
         Error::OutsideDomain { value: 1.5, start: 0.0, end: 1.0 },
         Error::MultiplicityList { knots: 2, mults: 1 },
         Error::Periodic { reason: "first and last knot multiplicities differ" },
+        Error::AtInfinity { parameter: 0.0 },
+        Error::SurfaceAtInfinity { u: 0.0, v: 1.0 },
+        Error::Tolerance { operation: "degree reduction", bound: 2.0, tol: 1.5 },
+        Error::Tolerance { operation: "degree reduction", bound: f64::INFINITY, tol: 1.5 },
     ];
     let text: Vec<String> = all.iter().map(ToString::to_string).collect();
     for t in &text {
