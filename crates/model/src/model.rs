@@ -189,6 +189,11 @@ impl<D: CadDocument> Model<D> {
         &self.bounds
     }
 
+    /// The model-space curves that bound no face.
+    pub fn free_curves(&self) -> &[FreeCurve] {
+        &self.free
+    }
+
     /// The model's units.
     pub fn units(&self) -> &Units {
         &self.units
