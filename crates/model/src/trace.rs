@@ -78,6 +78,21 @@ pub(crate) fn follow_face(
         last.set(Some((pr.u, pr.v)));
         after.eval(pr.u, pr.v)
     };
+    // A curve along an iso-line of the face (a boundary, a rim) is that iso-line of the
+    // morphed face, exactly: told from 33 samples, each projection started from the last.
+    let mut probe: Vec<(f64, f64)> = Vec::with_capacity(33);
+    for k in 0..=32 {
+        let t = t0 + (t1 - t0) * k as f64 / 32.0;
+        let pr = before.project_near(&c.eval(t), probe.last().copied(), ptol, 1e-6 * size);
+        if pr.distance_sq > (1e-6 * size).powi(2) {
+            probe.clear();
+            break;
+        }
+        probe.push((pr.u, pr.v));
+    }
+    if let Some(iso) = iso_trace(c, before, after, &probe) {
+        return Some(iso);
+    }
     let mut moved = c.clone();
     d.deform(moved.control_points_mut());
     let n = 8 * moved.control_points().len() + 1;
@@ -103,11 +118,6 @@ pub(crate) fn follow_face(
         let near = uvs.last().copied();
         uvs.push(uv(t, near));
     }
-    // A curve along an iso-line of the face (a boundary, a rim) is that iso-line of the
-    // morphed face, exactly.
-    if let Some(iso) = iso_trace(c, before, after, &uvs) {
-        return Some(iso);
-    }
     let mut breaks = Vec::new();
     for k in 0..m {
         let cell = spans(uvs[k]);
@@ -128,6 +138,11 @@ pub(crate) fn follow_face(
         }
         breaks.push(0.5 * (lo + hi));
     }
+    // The curve itself turns its speed where its own knots are full (a rational circle's
+    // quarter points): the image bends there too.
+    let (values, mults) = c.knots().distinct();
+    breaks
+        .extend(values.iter().zip(&mults).filter(|(k, m)| **m >= c.degree() && **k > t0 && **k < t1).map(|(k, _)| *k));
     last.set(None);
     // A cubic needs about (r / tol)^(1/4) spans per turn of a curve of radius r: a full
     // circle at 1e-7 of its size takes some 300 poles.
