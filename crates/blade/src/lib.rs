@@ -19,6 +19,15 @@
 //! assert!((foil.max_thickness(None).unwrap() - 0.12).abs() < 1e-3);
 //! ```
 //!
+//! What is where: profiles (`naca`, [`Profile`], [`Profile::to_curve`]), the design
+//! ([`Blade`], [`DesignTable`] in TOML), placement ([`Blade::apply_transformations`]),
+//! the loft ([`loft::loft`]: P&T A9.4 with centripetal parameters averaged over the
+//! sections and knots by averaging, eq. 9.6/9.8), the solid ([`BladeSolid`]: volume by
+//! the divergence theorem, edge gaps, seams), files ([`export`]), radial laws
+//! ([`RadialLaw`], [`Deformation`], [`ParamFile`] `.prm` and TOML), [`Propeller`] (one
+//! solid per blade plus a cylinder hub; see its module for why not united),
+//! [`reverse`], [`export_ppg`], [`errors_txt`].
+//!
 //! The crate has no feature flags.
 
 mod blade;
