@@ -736,10 +736,7 @@ impl NurbsSurface {
     pub fn eval_d1(&self, u: f64, v: f64) -> SurfacePointD1 {
         let (p, q) = (self.u_degree, self.v_degree);
         match p.max(q) {
-            _ if self.infinite => {
-                let d = self.derivs_general(u, v, 1);
-                SurfacePointD1 { point: d.point(), du: d[(1, 0)], dv: d[(0, 1)] }
-            }
+            _ if self.infinite => self.eval_d1_infinite(u, v),
             _ if (p, q) == (3, 3) => self.eval_d1_n::<4>(u, v, 3, 3),
             0..=3 => self.eval_d1_n::<4>(u, v, p, q),
             4..=7 => self.eval_d1_n::<8>(u, v, p, q),
@@ -808,6 +805,22 @@ impl NurbsSurface {
                 }
             }
         }
+    }
+
+    /// [`eval_d1`](Self::eval_d1) with control points at infinity: the general
+    /// homogeneous path, kept out of line so that the fast paths stay small.
+    #[cold]
+    #[inline(never)]
+    fn eval_d1_infinite(&self, u: f64, v: f64) -> SurfacePointD1 {
+        let d = self.derivs_general(u, v, 1);
+        SurfacePointD1 { point: d.point(), du: d[(1, 0)], dv: d[(0, 1)] }
+    }
+
+    /// `eval` with control points at infinity; see [`eval_d1_infinite`](Self::eval_d1_infinite).
+    #[cold]
+    #[inline(never)]
+    fn eval_infinite(&self, u: f64, v: f64) -> Point3<f64> {
+        self.derivs_general(u, v, 0).point()
     }
 
     /// A3.6 + A4.4 with heap buffers, any order.
@@ -960,7 +973,7 @@ impl Surface for NurbsSurface {
     fn eval(&self, u: f64, v: f64) -> Point3<f64> {
         let (p, q) = (self.u_degree, self.v_degree);
         match p.max(q) {
-            _ if self.infinite => self.derivs_general(u, v, 0).point(),
+            _ if self.infinite => self.eval_infinite(u, v),
             _ if (p, q) == (3, 3) => self.eval_n::<4>(u, v, 3, 3),
             0..=3 => self.eval_n::<4>(u, v, p, q),
             4..=7 => self.eval_n::<8>(u, v, p, q),
