@@ -215,7 +215,8 @@ pub fn run(cmd: BladeCommand) -> Result<()> {
         }
         BladeCommand::Reverse { input, radii, no_reflect, points, json } => {
             let bytes = std::fs::read(&input).with_context(|| format!("reading {}", input.display()))?;
-            let doc = cadmorph::step::Document::parse(&bytes).with_context(|| format!("reading {}", input.display()))?;
+            let doc =
+                cadmorph::step::Document::parse(&bytes).with_context(|| format!("reading {}", input.display()))?;
             let faces = doc.world_surfaces().with_context(|| format!("reading the faces of {}", input.display()))?;
             if faces.len() < 2 {
                 bail!("{}: {} faces; a blade file has its upper and lower faces first", input.display(), faces.len());
