@@ -92,7 +92,7 @@ fn cad(context: impl Into<String>) -> impl FnOnce(cadmorph::Error) -> Error {
 /// in its control points with the weights fixed), so its maximum over the parameter
 /// box is reached at a corner. Refining the base in turn for the deformation of every
 /// corner (Model::refine, the seam-driven refinement of `cadmorph-seam`), until a pass
-/// over the corners adds no knot, therefore refines for every variant at once, and the
+/// over the corners (taken cyclically) adds no knot, therefore refines for every variant at once, and the
 /// refinement depends on the campaign only, not on the share a process makes. Each
 /// variant's seams are still measured and out-of-tolerance ones flagged.
 ///
@@ -126,16 +126,14 @@ pub fn refined_base(space: &DesignSpace, manifest: &Manifest) -> Result<(Vec<u8>
         let theta0 = base.theta();
         let opts = MorphOptions { refine: Some(SeamRefineOptions::new(tol, space.settings.angle_tol)), ..Default::default() };
         let corners = refinement_points(space, manifest);
-        for _pass in 0..4 {
+        // Cyclically over the corners until a whole cycle adds no knot (at most 4 cycles).
+        let mut unchanged = 0;
+        while unchanged < corners.len() && deformations < 4 * corners.len() {
             let n0 = count(&model);
-            for mu in &corners {
-                let d = base.with_theta(&theta_of(space, &theta0, mu))?;
-                model.refine(&opts, Some(d.deformation())).map_err(cad("refining the base for the campaign"))?;
-                deformations += 1;
-            }
-            if count(&model) == n0 {
-                break;
-            }
+            let d = base.with_theta(&theta_of(space, &theta0, &corners[deformations % corners.len()]))?;
+            model.refine(&opts, Some(d.deformation())).map_err(cad("refining the base for the campaign"))?;
+            deformations += 1;
+            unchanged = if count(&model) == n0 { unchanged + 1 } else { 0 };
         }
     }
     let refined = model.to_bytes();
