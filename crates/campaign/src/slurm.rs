@@ -101,7 +101,7 @@ fn quote(p: &Path) -> String {
 }
 
 /// The `sbatch` script: a job array of `layout.tasks` tasks, each running
-/// `cadmorph campaign run CAMPAIGN` (its share from the array variables), logs in
+/// `cadmorph campaign run CAMPAIGN --out FOLDER` (its share from the array variables), logs in
 /// `slurm/` of the campaign folder.
 pub fn script(space: &DesignSpace, layout: &Layout, opts: &ScriptOptions) -> String {
     let mut s = String::from("#!/bin/bash\n");
@@ -126,7 +126,7 @@ pub fn script(space: &DesignSpace, layout: &Layout, opts: &ScriptOptions) -> Str
     let _ = writeln!(s, "#SBATCH --output={}", logs.join("task_%A_%a.out").display());
     s.push_str("set -euo pipefail\n");
     s.push_str("export RAYON_NUM_THREADS=\"${SLURM_CPUS_PER_TASK:-1}\"\n");
-    let _ = writeln!(s, "exec {} campaign run {}", quote(&opts.binary), quote(&space.path));
+    let _ = writeln!(s, "exec {} campaign run {} --out {}", quote(&opts.binary), quote(&space.path), quote(&space.output));
     s
 }
 

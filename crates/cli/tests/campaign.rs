@@ -2,6 +2,11 @@
 //! killed mid-way and resumed, seams within tolerance, the manifest reproducible, ten
 //! variants checked by OCCT, and the same campaign as a job array on a real single-node
 //! Slurm with outputs identical to the local run's.
+//!
+//! A variant takes about 1.5 s in a debug build (seam measurement before and after the
+//! morph and of the file read back), so the local run makes the plan's first share of
+//! 26 variants (`--shard 0/5`, `LOCAL_SHARD`); the Slurm array makes all 130, and the
+//! 26 are compared. The closing figures of the issue use all 130 in a release build.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -29,7 +34,11 @@ fn ok(out: &std::process::Output) -> String {
 }
 
 /// The local run's folder; only one test at a time runs or completes it.
-static LOCAL: Mutex<()> = Mutex::new(());
+static LOCAL_RUN: Mutex<()> = Mutex::new(());
+
+/// The share of the 130-variant plan the local run makes: v0000..v0025.
+const LOCAL_SHARD: &str = "0/5";
+const LOCAL: usize = 26;
 
 fn local_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("campaign-bow-dome-local")
@@ -64,21 +73,24 @@ fn reports_written(dir: &Path) -> usize {
     files(&dir.join("variants")).keys().filter(|p| p.file_name().is_some_and(|n| n == "report.json")).count()
 }
 
+fn run_local(dir: &Path) -> std::process::Output {
+    cadmorph(&["campaign", "run", campaign().to_str().unwrap(), "--out", dir.to_str().unwrap(), "--shard", LOCAL_SHARD])
+}
+
 /// Runs the local campaign to completion (resuming whatever is there).
 fn complete_local_run() -> PathBuf {
     let dir = local_dir();
-    let out = cadmorph(&["campaign", "run", campaign().to_str().unwrap(), "--out", dir.to_str().unwrap()]);
-    ok(&out);
+    ok(&run_local(&dir));
     dir
 }
 
 #[test]
 fn killed_run_resumes_redoes_nothing_and_leaves_no_partial_file() {
-    let _guard = LOCAL.lock().unwrap_or_else(|e| e.into_inner());
+    let _guard = LOCAL_RUN.lock().unwrap_or_else(|e| e.into_inner());
     let dir = local_dir();
     let _ = std::fs::remove_dir_all(&dir);
     let mut child = Command::new(env!("CARGO_BIN_EXE_cadmorph"))
-        .args(["campaign", "run", campaign().to_str().unwrap(), "--out", dir.to_str().unwrap()])
+        .args(["campaign", "run", campaign().to_str().unwrap(), "--out", dir.to_str().unwrap(), "--shard", LOCAL_SHARD])
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
@@ -104,7 +116,7 @@ fn killed_run_resumes_redoes_nothing_and_leaves_no_partial_file() {
         .filter(|(_, (s, _))| *s != cadmorph_campaign::State::Pending)
         .map(|(v, _)| v.id.as_str())
         .collect();
-    assert!(done.len() >= 4 && done.len() < 130, "{} done when killed", done.len());
+    assert!(done.len() >= 4 && done.len() < LOCAL, "{} done when killed", done.len());
     for (p, _) in files(&dir.join("variants")) {
         let name = p.file_name().unwrap().to_string_lossy().into_owned();
         if cadmorph_campaign::fsutil::is_temporary(&name) {
@@ -124,8 +136,8 @@ fn killed_run_resumes_redoes_nothing_and_leaves_no_partial_file() {
     let before = files(&dir.join("variants"));
 
     // Rerun: finishes the rest, redoes nothing.
-    let text = ok(&cadmorph(&["campaign", "run", campaign().to_str().unwrap(), "--out", dir.to_str().unwrap()]));
-    let expect = format!("130 variants, {} made (0 failed), {} skipped", 130 - done.len(), done.len());
+    let text = ok(&run_local(&dir));
+    let expect = format!("{LOCAL} variants, {} made (0 failed), {} skipped", LOCAL - done.len(), done.len());
     assert!(text.contains(&expect), "{text}");
     let after = files(&dir.join("variants"));
     for id in &done {
@@ -140,8 +152,8 @@ fn killed_run_resumes_redoes_nothing_and_leaves_no_partial_file() {
     // Every variant made, its outputs as its report hashes them, its seams within the
     // campaign's tolerance (gap 1.45e-5 m, angle 0.01 deg) as read back from the file.
     let st = cadmorph_campaign::status(&space, &manifest);
-    assert_eq!((st.ok, st.pending, st.failed, st.out_of_tolerance), (130, 0, 0, 0), "{st:?}");
-    for v in &manifest.variants {
+    assert_eq!((st.ok, st.pending, st.failed, st.out_of_tolerance), (LOCAL, 130 - LOCAL, 0, 0), "{st:?}");
+    for v in &manifest.variants[..LOCAL] {
         let r = Report::read(&dir.join("variants").join(&v.id)).unwrap();
         let s = r.seams.unwrap();
         assert!(s.max_gap_closest <= 1.45e-5 && s.max_g1_angle_deg <= 0.01, "{}: {s:?}", v.id);
@@ -149,8 +161,8 @@ fn killed_run_resumes_redoes_nothing_and_leaves_no_partial_file() {
         assert!(r.control_points > 576, "{}: the base was refined", v.id);
     }
     // A third run makes nothing.
-    let text = ok(&cadmorph(&["campaign", "run", campaign().to_str().unwrap(), "--out", dir.to_str().unwrap()]));
-    assert!(text.contains("0 made (0 failed), 130 skipped"), "{text}");
+    let text = ok(&run_local(&dir));
+    assert!(text.contains(&format!("0 made (0 failed), {LOCAL} skipped")), "{text}");
 
     // The manifest again from the seed, elsewhere: the same bytes.
     let again = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("campaign-bow-dome-plan");
@@ -159,21 +171,22 @@ fn killed_run_resumes_redoes_nothing_and_leaves_no_partial_file() {
     for f in ["manifest.csv", "manifest.json"] {
         assert_eq!(std::fs::read(again.join(f)).unwrap(), std::fs::read(dir.join(f)).unwrap(), "{f}");
     }
-    // collect: one row per variant, nothing flagged.
+    // collect: one row per variant, the made ones ok, the rest pending.
     let text = ok(&cadmorph(&["campaign", "collect", campaign().to_str().unwrap(), "--out", dir.to_str().unwrap()]));
-    assert!(text.contains("130 variants (130 ok, 0 out of tolerance, 0 failed, 0 pending)"), "{text}");
+    assert!(text.contains("130 variants (26 ok, 0 out of tolerance, 0 failed, 104 pending)"), "{text}");
     let table = std::fs::read_to_string(dir.join("results.csv")).unwrap();
     assert_eq!(table.lines().count(), 131);
-    assert!(table.lines().skip(1).all(|l| l.contains(",ok,true,")));
+    assert!(table.lines().skip(1).take(LOCAL).all(|l| l.contains(",ok,true,")), "{table}");
+    assert!(table.lines().skip(1 + LOCAL).all(|l| l.contains(",pending,")), "{table}");
 }
 
 #[test]
 #[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
 fn ten_variants_are_occt_valid() {
-    let _guard = LOCAL.lock().unwrap_or_else(|e| e.into_inner());
+    let _guard = LOCAL_RUN.lock().unwrap_or_else(|e| e.into_inner());
     let dir = complete_local_run();
     let (_, manifest) = plan(&dir);
-    for v in manifest.variants.iter().step_by(13) {
+    for v in manifest.variants[..LOCAL].iter().step_by(LOCAL / 10).take(10) {
         let file = dir.join("variants").join(&v.id).join("hull3.igs");
         let (code, json) = cadmorph_testkit::harness::validate(&file, None);
         assert_eq!(code, 0, "{}: {json}", v.id);
@@ -191,7 +204,7 @@ fn have(program: &str) -> bool {
 fn slurm_job_array_makes_the_same_outputs_as_the_local_run() {
     assert!(have("sbatch") && have("squeue"), "Slurm is not installed: run `bash tests/slurm/setup.sh` (or `bash scripts/test`)");
     let local = {
-        let _guard = LOCAL.lock().unwrap_or_else(|e| e.into_inner());
+        let _guard = LOCAL_RUN.lock().unwrap_or_else(|e| e.into_inner());
         complete_local_run()
     };
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("campaign-bow-dome-slurm");
@@ -240,8 +253,8 @@ fn slurm_job_array_makes_the_same_outputs_as_the_local_run() {
     for log in &task_logs {
         assert!(log.contains(": 10 variants, 10 made (0 failed), 0 skipped"), "{log}");
     }
-    // Every output byte-identical to the local run's.
-    for v in &manifest.variants {
+    // Every output of the local share byte-identical to the local run's.
+    for v in &manifest.variants[..LOCAL] {
         let a = std::fs::read(dir.join("variants").join(&v.id).join("hull3.igs")).unwrap();
         let b = std::fs::read(local.join("variants").join(&v.id).join("hull3.igs")).unwrap();
         assert!(a == b, "{}: the Slurm output differs from the local one", v.id);
