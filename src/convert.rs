@@ -6,7 +6,8 @@
 //! their exact NURBS form (analytic surfaces too: they become rational B-splines), in
 //! the same length unit. STEP output is one shell whose faces share the edges and
 //! vertices that coincide; IGES output is one 128 per face. A face trimmed inside its
-//! surface is refused ([`Error::Unsupported`]) rather than written without its trims.
+//! surface is refused ([`Error::Unsupported`]) rather than written without its trims, and
+//! so is a document with curves outside faces (wireframe), or without faces.
 
 use std::path::Path;
 
@@ -31,6 +32,10 @@ fn is_natural<D: CadDocument>(m: &Model<D>, i: usize, tol: f64) -> bool {
 /// The faces of `m` as untrimmed NURBS surfaces, or [`Error::Unsupported`] for a face
 /// trimmed inside its surface.
 fn surfaces<D: CadDocument>(m: &Model<D>) -> Result<Vec<NurbsSurface>> {
+    if m.patches().is_empty() || !m.free_curves().is_empty() {
+        // Wireframe (curves outside faces) does not convert yet; refuse rather than drop it.
+        return Err(Error::Unsupported("converting curves outside faces (only faces convert yet)"));
+    }
     let tol = 1e-6 * m.size().max(f64::MIN_POSITIVE);
     for (i, f) in m.patches().iter().enumerate() {
         if f.trimmed && !is_natural(m, i, tol) {

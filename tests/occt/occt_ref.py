@@ -556,6 +556,25 @@ def validate(loaded, request=None):
             worst[name] = max(worst[name], BRep_Tool.Tolerance_s(cast(ex.Current())))
             ex.Next()
     out["max_tolerance"] = worst
+    # Area of every face and volume of every solid (Gauss integration over the faces).
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+    props = GProp_GProps()
+    BRepGProp.SurfaceProperties_s(shape, props)
+    out["area"] = props.Mass()
+    volume = 0.0
+    ex = TopExp_Explorer(shape, TopAbs_SOLID)
+    while ex.More():
+        vp = GProp_GProps()
+        BRepGProp.VolumeProperties_s(ex.Current(), vp)
+        volume += abs(vp.Mass())
+        ex.Next()
+    out["volume"] = volume
+    out["face_areas"] = []
+    for f in faces:
+        fp = GProp_GProps()
+        BRepGProp.SurfaceProperties_s(f, fp)
+        out["face_areas"].append(fp.Mass())
     out["faces"] = []
     for k, face in enumerate(faces):
         surface = BRep_Tool.Surface_s(face)

@@ -26,11 +26,17 @@ pub(crate) fn shared_edges(faces: &[Face], bounds: &[BoundCurve]) -> (Vec<Shared
     let tol = edge_tol(faces);
     let refs: Vec<&NurbsSurface> = faces.iter().map(|p| &p.surface).collect();
     let iso = shared_boundaries(&refs, tol, 64, 0.9);
-    let trims = topology_edges(bounds, tol)
+    let trims = trims_off(faces, bounds, &iso);
+    (iso, trims)
+}
+
+/// The shared edges of `bounds` that are not among the iso-boundary edges `iso`.
+pub(crate) fn trims_off(faces: &[Face], bounds: &[BoundCurve], iso: &[SharedBoundary]) -> Vec<TrimEdge> {
+    let tol = edge_tol(faces);
+    topology_edges(bounds, tol)
         .into_iter()
         .filter(|t| !iso.iter().any(|e| t.lies_on(e, &faces[e.a.patch].surface, tol)))
-        .collect();
-    (iso, trims)
+        .collect()
 }
 
 /// Every pair of distinct faces using the same edge piece, and the trimming curves that

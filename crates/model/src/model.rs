@@ -189,6 +189,11 @@ impl<D: CadDocument> Model<D> {
         &self.bounds
     }
 
+    /// The model-space curves that bound no face.
+    pub fn free_curves(&self) -> &[FreeCurve] {
+        &self.free
+    }
+
     /// The model's units.
     pub fn units(&self) -> &Units {
         &self.units
@@ -280,6 +285,12 @@ impl<D: CadDocument> Model<D> {
         let iso = self.iso.iter().map(|e| measure_boundary(&faces, e, samples));
         let trims = self.trims.iter().map(|e| measure_edge(&faces, e, samples));
         SeamReport::new(iso.chain(trims).inspect(|_| progress.step(1)).collect())
+    }
+
+    /// Finds the edges that are not iso-boundaries again from the curves in memory,
+    /// keeping the iso-boundary edges.
+    pub(crate) fn rebuild_trims(&mut self) {
+        self.trims = crate::edges::trims_off(&self.faces, &self.bounds, &self.iso);
     }
 
     /// Finds the shared edges again from the patches and curves in memory.
@@ -381,16 +392,17 @@ impl<D: CadDocument> Model<D> {
     /// [`Error::ReadBack`] when the document does not read back with the same faces;
     /// the reader's errors.
     pub fn verify(&self) -> Result<Verification> {
-        let back = Model::new(self.doc.read_back()?)?;
-        if back.faces.len() != self.faces.len() {
+        let back_doc = self.doc.read_back()?;
+        let back_faces = back_doc.faces()?.faces;
+        if back_faces.len() != self.faces.len() {
             return Err(Error::ReadBack(format!(
                 "{} faces in memory, {} read back",
                 self.faces.len(),
-                back.faces.len()
+                back_faces.len()
             )));
         }
         let mut max_deviation = 0.0f64;
-        for (a, b) in self.faces.iter().zip(&back.faces) {
+        for (a, b) in self.faces.iter().zip(&back_faces) {
             if a.entity != b.entity {
                 return Err(Error::ReadBack(format!("face {} reads back as {}", a.entity, b.entity)));
             }
@@ -406,9 +418,17 @@ impl<D: CadDocument> Model<D> {
                 max_deviation = max_deviation.max((p - q).norm());
             }
         }
+        let domains: Vec<Domain> = back_faces.iter().map(|f| f.surface.domain()).collect();
         let seams = match &self.after_samples {
-            Some((samples, domains)) => back.seams_at(samples, domains, &Silent),
-            None => back.seams(200),
+            // The same surface points as the morph measured, on the faces read back.
+            Some((samples, then)) if *then == domains => {
+                let faces: Vec<SeamFace<'_>> =
+                    back_faces.iter().map(|p| SeamFace { surface: &p.surface, reversed: p.reversed }).collect();
+                let iso = self.iso.iter().map(|e| measure_boundary(&faces, e, 200));
+                let trims = samples.iter().map(|s| measure_edge_samples(&faces, s));
+                SeamReport::new(iso.chain(trims).collect())
+            }
+            _ => Model::new(back_doc)?.seams(200),
         };
         Ok(Verification { seams, max_deviation })
     }

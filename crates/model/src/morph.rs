@@ -175,7 +175,14 @@ impl<D: CadDocument> Model<D> {
         let tol = 1e-7 * self.size();
         let (faces_rewritten, unmoved) = self.write_faces(&refined, patches, d)?;
         let curves_rewritten = self.write_curves(&unmoved, d, tol)?;
-        self.rebuild_edges();
+        // The iso-boundary pairs stay the same sides while the domains do; the other
+        // edges follow the curves as written.
+        let now: Vec<_> = self.faces.iter().map(|p| p.surface.domain()).collect();
+        if now == domains {
+            self.rebuild_trims();
+        } else {
+            self.rebuild_edges();
+        }
         let seams_after = self.seams_at(&trim_samples, &domains, progress);
         self.after_samples = Some((trim_samples, domains));
         Ok(MorphOutcome {

@@ -78,6 +78,21 @@ pub(crate) fn follow_face(
         last.set(Some((pr.u, pr.v)));
         after.eval(pr.u, pr.v)
     };
+    // A curve along an iso-line of the face (a boundary, a rim) is that iso-line of the
+    // morphed face, exactly: told from 33 samples, each projection started from the last.
+    let mut probe: Vec<(f64, f64)> = Vec::with_capacity(33);
+    for k in 0..=32 {
+        let t = t0 + (t1 - t0) * k as f64 / 32.0;
+        let pr = before.project_near(&c.eval(t), probe.last().copied(), ptol, 1e-6 * size);
+        if pr.distance_sq > (1e-6 * size).powi(2) {
+            probe.clear();
+            break;
+        }
+        probe.push((pr.u, pr.v));
+    }
+    if let Some(iso) = iso_trace(c, before, after, &probe) {
+        return Some(iso);
+    }
     let mut moved = c.clone();
     d.deform(moved.control_points_mut());
     let n = 8 * moved.control_points().len() + 1;
@@ -102,11 +117,6 @@ pub(crate) fn follow_face(
     for &t in &ts {
         let near = uvs.last().copied();
         uvs.push(uv(t, near));
-    }
-    // A curve along an iso-line of the face (a boundary, a rim) is that iso-line of the
-    // morphed face, exactly.
-    if let Some(iso) = iso_trace(c, before, after, &uvs) {
-        return Some(iso);
     }
     let mut breaks = Vec::new();
     for k in 0..m {

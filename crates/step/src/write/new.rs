@@ -52,9 +52,15 @@ pub struct DocumentBuilder {
     items: Vec<u64>,
 }
 
+/// Conversion-based length units the builder writes: name and millimetres per unit.
+const CONVERSION_UNITS: [(&str, f64); 5] =
+    [("INCH", 25.4), ("FOOT", 304.8), ("MILE", 1_609_344.0), ("MIL", 0.0254), ("MICROINCH", 2.54e-5)];
+
 impl DocumentBuilder {
     /// A builder for a product called `name` whose length unit is `metres_per_unit`
-    /// (1 metre, 0.01 centimetre, 0.001 millimetre, 1e-6 micrometre, 0.0254 inch) and
+    /// (SI: 1 metre, 0.01 centimetre, 0.001 millimetre, 1e-6 micrometre, 1000 kilometre;
+    /// conversion-based, ISO 10303-41 `CONVERSION_BASED_UNIT` over the millimetre: inch,
+    /// foot, mile, mil, microinch) and
     /// whose distance uncertainty is `uncertainty` (model units).
     ///
     /// # Errors
@@ -71,8 +77,10 @@ impl DocumentBuilder {
             "( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) )".to_owned()
         } else if close(1e-6) {
             "( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MICRO.,.METRE.) )".to_owned()
-        } else if close(0.0254) {
-            "INCH".to_owned()
+        } else if close(1e3) {
+            "( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.KILO.,.METRE.) )".to_owned()
+        } else if let Some((name, _)) = CONVERSION_UNITS.iter().find(|(_, mm)| close(mm * 1e-3)) {
+            (*name).to_owned()
         } else {
             return Err(Error::Edit { at: nowhere, reason: format!("unsupported length unit {metres_per_unit} m") });
         };
@@ -245,8 +253,9 @@ impl DocumentBuilder {
             "( GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#{})) GLOBAL_UNIT_ASSIGNED_CONTEXT((#{},#{},#{})) REPRESENTATION_CONTEXT('Context #1','3D Context with UNIT and UNCERTAINTY') )",
             id(19), id(16), id(17), id(18)
         ));
-        if self.unit == "INCH" {
-            head.push(format!("( CONVERSION_BASED_UNIT('INCH',#{}) LENGTH_UNIT() NAMED_UNIT(#{}) )", id(21), id(22)));
+        let conversion = CONVERSION_UNITS.iter().find(|(name, _)| *name == self.unit);
+        if let Some((name, _)) = conversion {
+            head.push(format!("( CONVERSION_BASED_UNIT('{name}',#{}) LENGTH_UNIT() NAMED_UNIT(#{}) )", id(21), id(22)));
         } else {
             head.push(self.unit.clone());
         }
@@ -258,8 +267,8 @@ impl DocumentBuilder {
             id(16)
         ));
         head.push(format!("PRODUCT_RELATED_PRODUCT_CATEGORY('part',$,(#{}))", id(7)));
-        if self.unit == "INCH" {
-            head.push(format!("LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(25.4),#{})", id(23)));
+        if let Some((_, mm)) = conversion {
+            head.push(format!("LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE({}),#{})", format_real(*mm), id(23)));
             head.push("DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.)".into());
             head.push("( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) )".into());
         }
