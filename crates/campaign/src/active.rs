@@ -54,7 +54,9 @@ fn least_squares(a: DMatrix<f64>, f: DVector<f64>) -> Result<DVector<f64>> {
     let smax = svd.singular_values.max();
     let rank = svd.singular_values.iter().filter(|&&s| s > 1e-10 * smax).count();
     if rank < cols {
-        return Err(Error::Fit(format!("the fit is rank deficient: rank {rank} of {cols} (too few or degenerate points)")));
+        return Err(Error::Fit(format!(
+            "the fit is rank deficient: rank {rank} of {cols} (too few or degenerate points)"
+        )));
     }
     svd.solve(&f, 1e-12 * smax).map_err(|e| Error::Fit(e.to_string()))
 }
@@ -132,12 +134,18 @@ fn local_linear_c(z: &[Vec<f64>], f: &[f64], neighbours: usize) -> Result<DMatri
 /// # Errors
 ///
 /// [`Error::Fit`] for mismatched sizes, too few points or a degenerate fit.
-pub fn active_subspace(names: &[String], bounds: &[(f64, f64)], x: &[Vec<f64>], f: &[f64], fit: Fit) -> Result<ActiveSubspace> {
+pub fn active_subspace(
+    names: &[String],
+    bounds: &[(f64, f64)],
+    x: &[Vec<f64>],
+    f: &[f64],
+    fit: Fit,
+) -> Result<ActiveSubspace> {
     let m = names.len();
     if m == 0 || bounds.len() != m || x.len() != f.len() || x.iter().any(|r| r.len() != m) || x.is_empty() {
         return Err(Error::Fit(format!("expected {} samples of {m} parameters and one output each", f.len())));
     }
-    if bounds.iter().any(|(lo, hi)| !(lo < hi)) {
+    if bounds.iter().any(|(lo, hi)| lo.partial_cmp(hi) != Some(std::cmp::Ordering::Less)) {
         return Err(Error::Fit("every parameter needs a range lo < hi".into()));
     }
     let z = normalise(x, bounds);
@@ -160,5 +168,9 @@ pub fn active_subspace(names: &[String], bounds: &[(f64, f64)], x: &[Vec<f64>], 
             }
         })
         .collect();
-    Ok(ActiveSubspace { names: names.to_vec(), eigenvalues: order.iter().map(|&k| eig.eigenvalues[k]).collect(), directions })
+    Ok(ActiveSubspace {
+        names: names.to_vec(),
+        eigenvalues: order.iter().map(|&k| eig.eigenvalues[k]).collect(),
+        directions,
+    })
 }

@@ -94,12 +94,14 @@ pub fn collect(space: &DesignSpace, manifest: &Manifest) -> String {
         for x in &v.values {
             let _ = write!(s, ",{}", num(*x));
         }
-        let state_name = serde_json::to_value(state).ok().and_then(|x| x.as_str().map(str::to_owned)).unwrap_or_default();
+        let state_name =
+            serde_json::to_value(state).ok().and_then(|x| x.as_str().map(str::to_owned)).unwrap_or_default();
         let _ = write!(s, ",{state_name}");
         match report {
             None => s.push_str(",,,,,,,,,,,,,\n"),
             Some(r) => {
-                let seam = |f: fn(&crate::report::Seams) -> f64| r.seams.as_ref().map(|x| num(f(x))).unwrap_or_default();
+                let seam =
+                    |f: fn(&crate::report::Seams) -> f64| r.seams.as_ref().map(|x| num(f(x))).unwrap_or_default();
                 let _ = write!(
                     s,
                     ",{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},",

@@ -112,7 +112,8 @@ mod tests {
         assert_eq!(Entry::parse("mu_y[1, 2,0]"), Ok(Entry::Lattice { component: 1, node: [1, 2, 0] }));
         assert_eq!(Entry::parse(" d_z[3] "), Ok(Entry::Control { component: 2, index: 3 }));
         assert_eq!(Entry::parse("mu_y[1,2,0]").unwrap().to_string(), "mu_y[1,2,0]");
-        for bad in ["mu_w[1,2,0]", "mu_y[1,2]", "d_x[1,2]", "mu_y[1,-2,0]", "mu_y 1 2 0", "muy[1,2,0]", "mu_xy[0,0,0]"] {
+        for bad in ["mu_w[1,2,0]", "mu_y[1,2]", "d_x[1,2]", "mu_y[1,-2,0]", "mu_y 1 2 0", "muy[1,2,0]", "mu_xy[0,0,0]"]
+        {
             assert!(Entry::parse(bad).is_err(), "{bad}");
         }
     }

@@ -28,7 +28,7 @@ pub enum Base {
     /// FFD (paper eq. (1)–(2)).
     Ffd(Ffd),
     /// RBF (paper eq. (3)–(5)).
-    Rbf(Rbf),
+    Rbf(Box<Rbf>),
     /// IDW (paper eq. (9)).
     Idw(Idw),
 }
@@ -43,7 +43,7 @@ impl Base {
         let err = |source| Error::Morph { context: "building the deformation".into(), source };
         Ok(match params {
             Parameters::Ffd(f) => Base::Ffd(f.clone()),
-            Parameters::Rbf(r) => Base::Rbf(Rbf::from_parameters(r).map_err(err)?),
+            Parameters::Rbf(r) => Base::Rbf(Box::new(Rbf::from_parameters(r).map_err(err)?)),
             Parameters::Idw(i) => Base::Idw(Idw::from_parameters(i).map_err(err)?),
         })
     }
@@ -51,7 +51,7 @@ impl Base {
     fn linear(&self) -> &dyn LinearInParameters {
         match self {
             Base::Ffd(f) => f,
-            Base::Rbf(r) => r,
+            Base::Rbf(r) => r.as_ref(),
             Base::Idw(i) => i,
         }
     }
@@ -93,7 +93,10 @@ impl Base {
             }
             other => {
                 let d = other.linear();
-                (points.iter().map(|p| d.param_weights(p)).collect(), points.iter().map(|p| d.deform_point(p)).collect())
+                (
+                    points.iter().map(|p| d.param_weights(p)).collect(),
+                    points.iter().map(|p| d.deform_point(p)).collect(),
+                )
             }
         }
     }
@@ -190,8 +193,13 @@ mod tests {
 
     #[test]
     fn online_product_equals_the_deformation() {
-        let mut ffd = Ffd::try_new([4, 3, 3], Point3::new(-1.0, -1.0, -1.0), Vector3::new(2.0, 2.0, 2.0), Vector3::new(5.0, 0.0, 10.0))
-            .unwrap();
+        let mut ffd = Ffd::try_new(
+            [4, 3, 3],
+            Point3::new(-1.0, -1.0, -1.0),
+            Vector3::new(2.0, 2.0, 2.0),
+            Vector3::new(5.0, 0.0, 10.0),
+        )
+        .unwrap();
         ffd.mu_mut().set(1, 1, 1, [0.02, 0.0, 0.01]);
         let base = Base::Ffd(ffd);
         let params: Vec<Parameter> = [(1, [1, 1, 1]), (2, [2, 1, 1]), (0, [1, 1, 1])]
@@ -203,8 +211,9 @@ mod tests {
                 Parameter { name: format!("p{n}"), entry, theta, values: Values::Range { lo: -0.1, hi: 0.1 } }
             })
             .collect();
-        let points: Vec<Point3<f64>> =
-            (0..200).map(|i| Point3::new((i as f64 * 0.37).sin(), (i as f64 * 0.11).cos(), (i as f64 * 0.07).sin() * 1.2)).collect();
+        let points: Vec<Point3<f64>> = (0..200)
+            .map(|i| Point3::new((i as f64 * 0.37).sin(), (i as f64 * 0.11).cos(), (i as f64 * 0.07).sin() * 1.2))
+            .collect();
         let basis = Basis::new(&base, &params, points.clone());
         let mu = [0.05, -0.03, 0.07];
         let mut theta = base.theta();

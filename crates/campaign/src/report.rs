@@ -89,8 +89,9 @@ impl Report {
     /// lists is in `dir` with its hash (what makes a rerun skip the variant).
     pub fn is_complete(&self, dir: &Path, input_sha256: &str) -> bool {
         self.input_sha256 == input_sha256
-            && self.outputs.iter().all(|o| {
-                std::fs::read(dir.join(&o.file)).is_ok_and(|b| crate::space::sha256_hex(&b) == o.sha256)
-            })
+            && self
+                .outputs
+                .iter()
+                .all(|o| std::fs::read(dir.join(&o.file)).is_ok_and(|b| crate::space::sha256_hex(&b) == o.sha256))
     }
 }

@@ -124,7 +124,8 @@ pub fn refined_base(space: &DesignSpace, manifest: &Manifest) -> Result<(Vec<u8>
     if let Some(tol) = space.settings.refine_tol {
         let base = Base::new(&space.deformation)?;
         let theta0 = base.theta();
-        let opts = MorphOptions { refine: Some(SeamRefineOptions::new(tol, space.settings.angle_tol)), ..Default::default() };
+        let opts =
+            MorphOptions { refine: Some(SeamRefineOptions::new(tol, space.settings.angle_tol)), ..Default::default() };
         let corners = refinement_points(space, manifest);
         // Cyclically over the corners until a whole cycle adds no knot (at most 4 cycles).
         let mut unchanged = 0;
@@ -181,7 +182,8 @@ impl Prepared {
             model.patches().iter().flat_map(|p| p.surface.control_points().iter().copied()).collect();
         let base = Base::new(&space.deformation)?;
         let basis = Basis::new(&base, &space.parameters, points);
-        let stem = space.geometry.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "variant".into());
+        let stem =
+            space.geometry.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "variant".into());
         Ok(Prepared {
             space: space.clone(),
             refined,
@@ -312,7 +314,12 @@ pub fn variant_dir(space: &DesignSpace, id: &str) -> PathBuf {
 /// # Errors
 ///
 /// [`Error::StaleManifest`]; those of [`Prepared::new`]; [`Error::Io`].
-pub fn run(space: &DesignSpace, shard: Shard, retry_failed: bool, each: &(dyn Fn(&Report, bool) + Sync)) -> Result<RunSummary> {
+pub fn run(
+    space: &DesignSpace,
+    shard: Shard,
+    retry_failed: bool,
+    each: &(dyn Fn(&Report, bool) + Sync),
+) -> Result<RunSummary> {
     let start = Instant::now();
     let manifest = Manifest::plan(space);
     manifest.write(&space.output)?;

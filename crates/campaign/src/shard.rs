@@ -29,7 +29,10 @@ impl Shard {
             return Err(Error::Argument { what: what.into(), message: "N must be at least 1".into() });
         }
         if k >= n {
-            return Err(Error::Argument { what: what.into(), message: format!("K = {k} must be below N = {n} (K counts from 0)") });
+            return Err(Error::Argument {
+                what: what.into(),
+                message: format!("K = {k} must be below N = {n} (K counts from 0)"),
+            });
         }
         Ok(Shard { k, n })
     }
@@ -40,7 +43,8 @@ impl Shard {
     ///
     /// [`Error::Argument`] for another form, `N = 0` or `K ≥ N`.
     pub fn parse(text: &str) -> Result<Shard> {
-        let bad = || Error::Argument { what: "--shard".into(), message: format!("expected K/N (e.g. 0/4), found {text:?}") };
+        let bad =
+            || Error::Argument { what: "--shard".into(), message: format!("expected K/N (e.g. 0/4), found {text:?}") };
         let (k, n) = text.split_once('/').ok_or_else(bad)?;
         let k = k.trim().parse().map_err(|_| bad())?;
         let n = n.trim().parse().map_err(|_| bad())?;
@@ -56,7 +60,10 @@ impl Shard {
     pub fn from_slurm(env: impl Fn(&str) -> Option<String>) -> Result<Option<Shard>> {
         let Some(id) = env("SLURM_ARRAY_TASK_ID") else { return Ok(None) };
         let num = |name: &str, v: &str| {
-            v.trim().parse::<usize>().map_err(|_| Error::Argument { what: name.into(), message: format!("expected an integer, found {v:?}") })
+            v.trim().parse::<usize>().map_err(|_| Error::Argument {
+                what: name.into(),
+                message: format!("expected an integer, found {v:?}"),
+            })
         };
         let id = num("SLURM_ARRAY_TASK_ID", &id)?;
         let count = env("SLURM_ARRAY_TASK_COUNT").ok_or_else(|| Error::Argument {

@@ -53,7 +53,11 @@ pub fn pilot(space: &DesignSpace, manifest: &Manifest) -> Result<Pilot> {
     let first = manifest.variants.first().ok_or_else(|| Error::Fit("the plan has no variant".into()))?;
     let t = Instant::now();
     prepared.make(first, &space.output.join("slurm").join("pilot"))?;
-    Ok(Pilot { offline_ms: prepared.offline_ms, variant_ms: t.elapsed().as_secs_f64() * 1e3, peak_rss_kb: peak_rss_kb() })
+    Ok(Pilot {
+        offline_ms: prepared.offline_ms,
+        variant_ms: t.elapsed().as_secs_f64() * 1e3,
+        peak_rss_kb: peak_rss_kb(),
+    })
 }
 
 /// Settings of the job-array script.
@@ -126,7 +130,8 @@ pub fn script(space: &DesignSpace, layout: &Layout, opts: &ScriptOptions) -> Str
     let _ = writeln!(s, "#SBATCH --output={}", logs.join("task_%A_%a.out").display());
     s.push_str("set -euo pipefail\n");
     s.push_str("export RAYON_NUM_THREADS=\"${SLURM_CPUS_PER_TASK:-1}\"\n");
-    let _ = writeln!(s, "exec {} campaign run {} --out {}", quote(&opts.binary), quote(&space.path), quote(&space.output));
+    let _ =
+        writeln!(s, "exec {} campaign run {} --out {}", quote(&opts.binary), quote(&space.path), quote(&space.output));
     s
 }
 
@@ -155,7 +160,10 @@ pub fn submit(space: &DesignSpace, script: &Path) -> Result<String> {
         .output()
         .map_err(|e| Error::External { program: "sbatch".into(), message: e.to_string() })?;
     if !out.status.success() {
-        return Err(Error::External { program: "sbatch".into(), message: String::from_utf8_lossy(&out.stderr).trim().to_string() });
+        return Err(Error::External {
+            program: "sbatch".into(),
+            message: String::from_utf8_lossy(&out.stderr).trim().to_string(),
+        });
     }
     let text = String::from_utf8_lossy(&out.stdout);
     let id = text.trim().split(';').next().unwrap_or("").to_string();

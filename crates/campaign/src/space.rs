@@ -74,9 +74,7 @@ impl Values {
     pub fn levels(&self, levels: usize) -> Vec<f64> {
         match self {
             Values::Range { lo, hi } if levels == 1 => vec![0.5 * (lo + hi)],
-            Values::Range { lo, hi } => {
-                (0..levels).map(|i| lo + (hi - lo) * i as f64 / (levels - 1) as f64).collect()
-            }
+            Values::Range { lo, hi } => (0..levels).map(|i| lo + (hi - lo) * i as f64 / (levels - 1) as f64).collect(),
             Values::Set(v) => v.clone(),
         }
     }
@@ -240,9 +238,9 @@ impl Ctx<'_> {
                 self.err(s.span(), field, format!("expected an integer ≥ {min}, found {}", s.get_ref()))
             }
             Some(s) => Ok(*s.get_ref() as usize),
-            None => default.map(|d| d as usize).ok_or_else(|| {
-                self.error(0..0, field, format!("missing: this sampling method needs `{field}`"))
-            }),
+            None => default
+                .map(|d| d as usize)
+                .ok_or_else(|| self.error(0..0, field, format!("missing: this sampling method needs `{field}`"))),
         }
     }
 }
@@ -286,15 +284,22 @@ impl DesignSpace {
         })?;
         let base = raw.base.ok_or_else(|| cx.error(0..0, "base.geometry", "missing table [base]"))?;
         let geometry = cx.resolve(base.get_ref().geometry.get_ref());
-        let geometry_bytes = std::fs::read(&geometry)
-            .map_err(|e| cx.error(base.get_ref().geometry.span(), "base.geometry", format!("{}: {e}", geometry.display())))?;
+        let geometry_bytes = std::fs::read(&geometry).map_err(|e| {
+            cx.error(base.get_ref().geometry.span(), "base.geometry", format!("{}: {e}", geometry.display()))
+        })?;
         let def = raw.deformation.ok_or_else(|| cx.error(0..0, "deformation", "missing table [deformation]"))?;
         let def_span = def.span();
         let def = def.into_inner();
-        let given: Vec<(&str, Spanned<String>)> =
-            [("ffd", def.ffd), ("rbf", def.rbf), ("idw", def.idw)].into_iter().filter_map(|(k, v)| v.map(|v| (k, v))).collect();
+        let given: Vec<(&str, Spanned<String>)> = [("ffd", def.ffd), ("rbf", def.rbf), ("idw", def.idw)]
+            .into_iter()
+            .filter_map(|(k, v)| v.map(|v| (k, v)))
+            .collect();
         if given.len() != 1 {
-            return cx.err(def_span, "deformation", format!("expected exactly one of ffd, rbf, idw, found {}", given.len()));
+            return cx.err(
+                def_span,
+                "deformation",
+                format!("expected exactly one of ffd, rbf, idw, found {}", given.len()),
+            );
         }
         let (kind, file) = &given[0];
         let deformation_path = cx.resolve(file.get_ref());
@@ -316,18 +321,30 @@ impl DesignSpace {
         let s = raw.settings.unwrap_or(RawSettings { refine_tol: None, angle_tol: None, formats: None });
         let refine_tol = match s.refine_tol {
             Some(t) if !(*t.get_ref() > 0.0 && t.get_ref().is_finite()) => {
-                return cx.err(t.span(), "settings.refine_tol", format!("expected a positive tolerance, found {}", t.get_ref()))
+                return cx.err(
+                    t.span(),
+                    "settings.refine_tol",
+                    format!("expected a positive tolerance, found {}", t.get_ref()),
+                )
             }
             t => t.map(|t| *t.get_ref()),
         };
         let angle_tol = match s.angle_tol {
             Some(t) if !(*t.get_ref() > 0.0 && t.get_ref().is_finite()) => {
-                return cx.err(t.span(), "settings.angle_tol", format!("expected a positive angle, found {}", t.get_ref()))
+                return cx.err(
+                    t.span(),
+                    "settings.angle_tol",
+                    format!("expected a positive angle, found {}", t.get_ref()),
+                )
             }
             t => t.map_or(0.01, |t| *t.get_ref()),
         };
         let base_format = cadmorph::sniff(&geometry_bytes).ok_or_else(|| {
-            cx.error(base.get_ref().geometry.span(), "base.geometry", format!("{} is not an IGES or STEP file", geometry.display()))
+            cx.error(
+                base.get_ref().geometry.span(),
+                "base.geometry",
+                format!("{} is not an IGES or STEP file", geometry.display()),
+            )
         })?;
         let formats = match s.formats {
             None => vec![base_format],
@@ -357,7 +374,11 @@ impl DesignSpace {
             let r = p.get_ref();
             let name = r.name.get_ref().trim().to_string();
             if name.is_empty() || name.contains([',', '"', '\n']) {
-                return cx.err(r.name.span(), field("name"), format!("expected a name without commas or quotes, found {name:?}"));
+                return cx.err(
+                    r.name.span(),
+                    field("name"),
+                    format!("expected a name without commas or quotes, found {name:?}"),
+                );
             }
             if parameters.iter().any(|q| q.name == name) {
                 return cx.err(r.name.span(), field("name"), format!("a second parameter named {name:?}"));
@@ -371,9 +392,19 @@ impl DesignSpace {
                 (Some(range), None) => match range.get_ref()[..] {
                     [lo, hi] if lo.is_finite() && hi.is_finite() && lo < hi => Values::Range { lo, hi },
                     [lo, hi] if lo.is_finite() && hi.is_finite() => {
-                        return cx.err(range.span(), field("range"), format!("empty range [{lo}, {hi}]: expected lo < hi"))
+                        return cx.err(
+                            range.span(),
+                            field("range"),
+                            format!("empty range [{lo}, {hi}]: expected lo < hi"),
+                        )
                     }
-                    _ => return cx.err(range.span(), field("range"), "expected [lo, hi], two finite numbers with lo < hi"),
+                    _ => {
+                        return cx.err(
+                            range.span(),
+                            field("range"),
+                            "expected [lo, hi], two finite numbers with lo < hi",
+                        )
+                    }
                 },
                 (None, Some(set)) => {
                     let v = set.get_ref();
@@ -388,7 +419,13 @@ impl DesignSpace {
                     }
                     Values::Set(v.clone())
                 }
-                _ => return cx.err(p.span(), field("range"), "expected exactly one of `range = [lo, hi]` and `set = [...]`"),
+                _ => {
+                    return cx.err(
+                        p.span(),
+                        field("range"),
+                        "expected exactly one of `range = [lo, hi]` and `set = [...]`",
+                    )
+                }
             };
             parameters.push(Parameter { name, entry, theta, values });
         }
@@ -410,7 +447,11 @@ impl DesignSpace {
                     Some(("maximin", _)) => Criterion::Maximin,
                     Some(("correlation", _)) => Criterion::Correlation,
                     Some((other, span)) => {
-                        return cx.err(span, "sampling.criterion", format!("expected none, maximin or correlation, found {other:?}"))
+                        return cx.err(
+                            span,
+                            "sampling.criterion",
+                            format!("expected none, maximin or correlation, found {other:?}"),
+                        )
                     }
                 };
                 Method::Lhs {
@@ -419,7 +460,9 @@ impl DesignSpace {
                     candidates: cx.count(&sp.candidates, "sampling.candidates", 1, Some(20))?,
                 }
             }
-            "sobol" => Method::Sobol { n: cx.count(&sp.n, "sampling.n", 1, None)?, scramble: sp.scramble.unwrap_or(true) },
+            "sobol" => {
+                Method::Sobol { n: cx.count(&sp.n, "sampling.n", 1, None)?, scramble: sp.scramble.unwrap_or(true) }
+            }
             other => {
                 return cx.err(
                     sp.method.span(),
@@ -437,7 +480,8 @@ impl DesignSpace {
         let output = match raw.campaign.and_then(|c| c.output) {
             Some(o) => cx.resolve(&o),
             None => {
-                let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "campaign".into());
+                let stem =
+                    path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "campaign".into());
                 cx.resolve(&format!("{stem}.out"))
             }
         };
@@ -457,7 +501,18 @@ impl DesignSpace {
             "cadmorph": env!("CARGO_PKG_VERSION"),
         });
         let hash = sha_hex(spec.to_string().as_bytes());
-        Ok(DesignSpace { path: path.to_owned(), geometry, deformation_path, deformation, parameters, method, seed, settings, output, hash })
+        Ok(DesignSpace {
+            path: path.to_owned(),
+            geometry,
+            deformation_path,
+            deformation,
+            parameters,
+            method,
+            seed,
+            settings,
+            output,
+            hash,
+        })
     }
 
     /// The parameter names, in order.

@@ -95,9 +95,7 @@ fn joe_kuo_reference(n: usize) -> Vec<Vec<u32>> {
     (0..n)
         .map(|i| {
             let gray = i ^ (i >> 1);
-            dirs.iter()
-                .map(|v| (1..=32).filter(|&k| (gray >> (k - 1)) & 1 == 1).fold(0u32, |x, k| x ^ v[k]))
-                .collect()
+            dirs.iter().map(|v| (1..=32).filter(|&k| (gray >> (k - 1)) & 1 == 1).fold(0u32, |x, k| x ^ v[k])).collect()
         })
         .collect()
 }
@@ -244,7 +242,9 @@ fn active_subspace_recovers_a_one_dimensional_ridge() {
         .into_iter()
         .map(|u| u.iter().zip(&bounds).map(|(t, (lo, hi))| lo + t * (hi - lo)).collect::<Vec<f64>>())
         .collect::<Vec<_>>();
-    let z = |r: &[f64]| -> f64 { r.iter().zip(&bounds).zip(&w).map(|((v, (lo, hi)), wi)| wi * (2.0 * (v - lo) / (hi - lo) - 1.0)).sum() };
+    let z = |r: &[f64]| -> f64 {
+        r.iter().zip(&bounds).zip(&w).map(|((v, (lo, hi)), wi)| wi * (2.0 * (v - lo) / (hi - lo) - 1.0)).sum()
+    };
     let cosine = |d: &[f64]| d.iter().zip(&w).map(|(a, b)| a * b).sum::<f64>().abs();
     for (g, fit) in [
         (Box::new(|t: f64| t * t + 0.5 * t) as Box<dyn Fn(f64) -> f64>, Fit::Quadratic),
@@ -260,6 +260,6 @@ fn active_subspace_recovers_a_one_dimensional_ridge() {
         assert!(a.eigenvalues[1] < 1e-2 * a.eigenvalues[0], "{fit:?}: {:?}", a.eigenvalues);
     }
     // Too few points for a quadratic in six parameters (28 coefficients).
-    let e = active_subspace(&names, &bounds, &x[..20], &vec![0.0; 20], Fit::Quadratic).unwrap_err();
+    let e = active_subspace(&names, &bounds, &x[..20], &[0.0; 20], Fit::Quadratic).unwrap_err();
     assert!(e.to_string().contains("at least 28 points"), "{e}");
 }

@@ -115,7 +115,13 @@ pub fn run(a: Args) -> Result<()> {
             let s = space(&c)?;
             let m = Manifest::plan(&s);
             m.write(&s.output)?;
-            println!("{} variants of {} parameters ({}) -> {}", m.variants.len(), m.parameters.len(), m.method, s.output.join("manifest.csv").display());
+            println!(
+                "{} variants of {} parameters ({}) -> {}",
+                m.variants.len(),
+                m.parameters.len(),
+                m.method,
+                s.output.join("manifest.csv").display()
+            );
         }
         Command::Run { c, shard, retry_failed } => {
             let s = space(&c)?;
@@ -124,7 +130,13 @@ pub fn run(a: Args) -> Result<()> {
                 None => Shard::from_slurm(|k| std::env::var(k).ok())?.unwrap_or(Shard::ALL),
             };
             let each = |r: &cadmorph_campaign::Report, skipped: bool| {
-                let state = if r.status != "ok" { "FAILED" } else if r.in_tolerance { "ok" } else { "OUT OF TOLERANCE" };
+                let state = if r.status != "ok" {
+                    "FAILED"
+                } else if r.in_tolerance {
+                    "ok"
+                } else {
+                    "OUT OF TOLERANCE"
+                };
                 if skipped {
                     eprintln!("{} complete, skipped", r.id);
                 } else {
@@ -247,7 +259,14 @@ fn active(s: &DesignSpace, results: &Path, output: &str, local_linear: Option<us
     for (line, rec) in rd.records().enumerate() {
         let rec = rec?;
         let num = |i: usize| -> Result<f64> {
-            rec.get(i).unwrap_or("").trim().parse::<f64>().with_context(|| format!("{}: line {}, column {}: expected a number", results.display(), line + 2, header.get(i).unwrap_or("")))
+            rec.get(i).unwrap_or("").trim().parse::<f64>().with_context(|| {
+                format!(
+                    "{}: line {}, column {}: expected a number",
+                    results.display(),
+                    line + 2,
+                    header.get(i).unwrap_or("")
+                )
+            })
         };
         if rec.get(out).unwrap_or("").trim().is_empty() {
             continue; // a variant without the output (pending or failed)

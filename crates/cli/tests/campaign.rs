@@ -202,7 +202,10 @@ fn have(program: &str) -> bool {
 #[test]
 #[ignore = "needs the single-node Slurm (bash tests/slurm/setup.sh)"]
 fn slurm_job_array_makes_the_same_outputs_as_the_local_run() {
-    assert!(have("sbatch") && have("squeue"), "Slurm is not installed: run `bash tests/slurm/setup.sh` (or `bash scripts/test`)");
+    assert!(
+        have("sbatch") && have("squeue"),
+        "Slurm is not installed: run `bash tests/slurm/setup.sh` (or `bash scripts/test`)"
+    );
     let local = {
         let _guard = LOCAL_RUN.lock().unwrap_or_else(|e| e.into_inner());
         complete_local_run()
@@ -258,8 +261,10 @@ fn slurm_job_array_makes_the_same_outputs_as_the_local_run() {
         let a = std::fs::read(dir.join("variants").join(&v.id).join("hull3.igs")).unwrap();
         let b = std::fs::read(local.join("variants").join(&v.id).join("hull3.igs")).unwrap();
         assert!(a == b, "{}: the Slurm output differs from the local one", v.id);
-        let (ra, rb) =
-            (Report::read(&dir.join("variants").join(&v.id)).unwrap(), Report::read(&local.join("variants").join(&v.id)).unwrap());
+        let (ra, rb) = (
+            Report::read(&dir.join("variants").join(&v.id)).unwrap(),
+            Report::read(&local.join("variants").join(&v.id)).unwrap(),
+        );
         assert_eq!((ra.outputs, ra.seams, ra.control_points), (rb.outputs, rb.seams, rb.control_points), "{}", v.id);
     }
     let text = ok(&cadmorph(&["campaign", "status", campaign().to_str().unwrap(), "--out", dir.to_str().unwrap()]));
