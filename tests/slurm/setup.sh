@@ -30,6 +30,10 @@ if ! command -v slurmctld >/dev/null || ! command -v slurmd >/dev/null || ! comm
             break
         fi
         [ "$attempt" = 10 ] && { cat "$STATE/apt.log" >&2; exit 1; }
+        # A machine whose package lists are missing or stale: update them once.
+        if [ "$attempt" = 1 ] && grep -qE "Unable to locate package|has no installation candidate|404" "$STATE/apt.log"; then
+            log "updating the package lists"; apt-get -o DPkg::Lock::Timeout=300 update >>"$STATE/apt.log" 2>&1 || true
+        fi
         log "apt-get failed (attempt $attempt), retrying in 10 s"; sleep 10
     done
 fi
