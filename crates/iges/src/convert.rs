@@ -1094,7 +1094,7 @@ impl Document {
     ///
     /// ```
     /// use cadmorph_iges::Document;
-    /// let bytes = std::fs::read(cadmorph_testkit::sample("hull3.igs")).unwrap();
+    /// let bytes = std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/hull3.igs")).unwrap();
     /// let doc = Document::parse(&bytes).unwrap();
     /// let info = doc.surfaces();
     /// assert_eq!(info.len(), 3);

@@ -322,7 +322,7 @@ pub(crate) enum PBlock {
 ///
 /// ```
 /// use cadmorph_iges::Document;
-/// let bytes = std::fs::read(cadmorph_testkit::sample("bspline_surface.igs")).unwrap();
+/// let bytes = std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/bspline_surface.igs")).unwrap();
 /// let doc = Document::parse(&bytes).unwrap();
 /// assert_eq!(doc.write(), bytes);
 /// assert_eq!(doc.counts_by_type()[&128], 1);
@@ -359,7 +359,7 @@ impl Document {
     /// As [`parse`](Self::parse).
     ///
     /// ```
-    /// let bytes = std::fs::read(cadmorph_testkit::sample("nurbs_arc.igs")).unwrap();
+    /// let bytes = std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/nurbs_arc.igs")).unwrap();
     /// let doc = cadmorph_iges::Document::from_bytes(bytes.clone()).unwrap();
     /// assert_eq!(doc.write(), bytes);
     /// ```
@@ -429,7 +429,7 @@ impl Document {
     /// [`Error::Syntax`] if the record does not hold four counts.
     ///
     /// ```
-    /// let bytes = std::fs::read(cadmorph_testkit::sample("hull3.igs")).unwrap();
+    /// let bytes = std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/hull3.igs")).unwrap();
     /// cadmorph_iges::Document::parse(&bytes).unwrap().check_terminate().unwrap();
     /// ```
     pub fn check_terminate(&self) -> Result<()> {

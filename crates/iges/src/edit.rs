@@ -162,7 +162,7 @@ impl Document {
     ///
     /// ```
     /// use cadmorph_iges::{Document, EntityId};
-    /// let bytes = std::fs::read(cadmorph_testkit::sample("hull3_bare.igs")).unwrap();
+    /// let bytes = std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/hull3_bare.igs")).unwrap();
     /// let mut doc = Document::parse(&bytes).unwrap();
     /// let id = EntityId(1);
     /// let mut pts = doc.surface(id).unwrap().surface.control_points().to_vec();
@@ -299,7 +299,7 @@ impl Document {
     ///
     /// ```
     /// use cadmorph_iges::{Document, View};
-    /// let bytes = std::fs::read(cadmorph_testkit::sample("mixed_solid_brep.igs")).unwrap();
+    /// let bytes = std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/mixed_solid_brep.igs")).unwrap();
     /// let mut doc = Document::parse(&bytes).unwrap();
     /// let cylinder = doc.entities().find(|e| e.entity_type() == 192).unwrap().id();
     /// let before = doc.surface(cylinder).unwrap().surface;

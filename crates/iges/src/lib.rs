@@ -21,6 +21,11 @@
 //!   [`Document::replace_with_bspline`] and the raw [`Document::set_values`]. Sequence
 //!   numbers, directory pointers and line counts and the Terminate record follow.
 //! * [`write::DocumentBuilder`] writes new files from NURBS curves and surfaces.
+//! * [`Document::face_bounds`] is the one walk over what bounds a face (144 → 142,
+//!   143 → 141, 510 → 508 → 504), and [`Document::reversed_faces`] the orientation from
+//!   186/514 shells; on them [`Document`] implements `cadmorph_brep::CadDocument`
+//!   (faces, bound curves, free curves, face and curve edits), so the format-neutral
+//!   model (`cadmorph-model`) never walks IGES topology itself.
 //!
 //! It does not own geometry algorithms (`cadmorph-nurbs`), deformations
 //! (`cadmorph-morph`) or the format-neutral model of patches and adjacency
@@ -30,7 +35,7 @@
 //! use cadmorph_iges::{Document, Units};
 //! use cadmorph_nurbs::Surface;
 //!
-//! let bytes = std::fs::read(cadmorph_testkit::sample("hull3.igs")).unwrap();
+//! let bytes = std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/hull3.igs")).unwrap();
 //! let mut doc = Document::parse(&bytes)?;
 //! assert_eq!(doc.global().units(), Some(Units::Metre));
 //! assert_eq!(doc.write(), bytes); // lossless

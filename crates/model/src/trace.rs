@@ -138,6 +138,11 @@ pub(crate) fn follow_face(
         }
         breaks.push(0.5 * (lo + hi));
     }
+    // The curve itself turns its speed where its own knots are full (a rational circle's
+    // quarter points): the image bends there too.
+    let (values, mults) = c.knots().distinct();
+    breaks
+        .extend(values.iter().zip(&mults).filter(|(k, m)| **m >= c.degree() && **k > t0 && **k < t1).map(|(k, _)| *k));
     last.set(None);
     // A cubic needs about (r / tol)^(1/4) spans per turn of a curve of radius r: a full
     // circle at 1e-7 of its size takes some 300 poles.

@@ -70,7 +70,8 @@ fn identity_morph_is_byte_identical<D: ReadDocument>(ext: &str) {
 
 /// After a non-affine morph, every edge (bound curve) of the written file lies within
 /// `1e-7 ×` the model size of its morphed faces: of both faces where the edge is an
-/// iso-boundary with the faces' knots (hull, blade, cylinder).
+/// iso-boundary with the faces' knots (hull, blade, cylinder), and of the face it was
+/// traced on for the solid's trims and B-rep edges.
 fn edges_stay_on_their_morphed_faces<D: ReadDocument>(ext: &str) {
     for name in ["hull3", "blade", "nurbs_cylinder"] {
         let file = format!("{name}.{ext}");
@@ -84,6 +85,26 @@ fn edges_stay_on_their_morphed_faces<D: ReadDocument>(ext: &str) {
         let (gap, n) = curve_to_face_gap(&back, faces_of);
         assert!(gap <= 1e-7 * back.size(), "{file}: {n} edge-face pairs, worst {gap:e}");
     }
+    // The solid: trims and B-rep edges of planes, cylinders, a cone and a loft, each
+    // curve on the face it was traced on (its other face is the seam, which the
+    // refinement tests hold).
+    let solid = format!("mixed_solid.{ext}");
+    let mut m = open::<D>(&solid);
+    let law = bulge(&m);
+    let moved = m.morph(&law, &MorphOptions::default()).unwrap();
+    assert!(moved.curves_rewritten > 0, "{solid}");
+    let back = reread(&m);
+    let first = |k: usize, b: &cadmorph_brep::BoundCurve| {
+        let first = back.bound_curves().iter().position(|c| c.target.is_some() && c.target == b.target);
+        if first == Some(k) || b.target.is_none() {
+            vec![b.face]
+        } else {
+            vec![]
+        }
+    };
+    let (gap, n) = curve_to_face_gap(&back, first);
+    assert!(n > 0);
+    assert!(gap <= 1e-7 * back.size(), "{solid}: {n} curves, worst {gap:e}");
 }
 
 /// A surface set on a patch is what the patch then holds, in memory and in the file

@@ -170,7 +170,7 @@ impl Document {
     /// # Examples
     ///
     /// ```
-    /// let doc = cadmorph_step::Document::parse(&std::fs::read(cadmorph_testkit::sample("nurbs_cylinder.stp")).unwrap()).unwrap();
+    /// let doc = cadmorph_step::Document::parse(&std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/nurbs_cylinder.stp")).unwrap()).unwrap();
     /// assert_eq!(doc.entity_counts()["CARTESIAN_POINT"], 25);
     /// ```
     pub fn entity_counts(&self) -> BTreeMap<String, usize> {

@@ -5,12 +5,15 @@
 //! [`cadmorph_nurbs`] curves and surfaces in world coordinates and model units, in-place
 //! edits (control points, weights, analytic surfaces replaced by their exact B-spline
 //! form) that rewrite only the instances they touch, and a [`DocumentBuilder`] for new
-//! files. It does not morph, check seams or know about IGES; see `cadmorph-morph`,
-//! `cadmorph-seam` and `cadmorph-iges`.
+//! files. [`Document`] implements `cadmorph_brep::CadDocument`: its face write
+//! ([`Document::write_surface_shared`]) keeps the file's sharing of points (a point
+//! shared by two faces moves once), its edge write ([`Document::set_edge_curve`]) moves
+//! the edge's vertices with the new curve. It does not morph, check seams or know about
+//! IGES; see `cadmorph-model`, `cadmorph-seam` and `cadmorph-iges`.
 //!
 //! ```
 //! use cadmorph_step::Document;
-//! let bytes = std::fs::read(cadmorph_testkit::sample("bspline_surface.stp")).unwrap();
+//! let bytes = std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/bspline_surface.stp")).unwrap();
 //! let doc = Document::parse(&bytes).unwrap();
 //! assert_eq!(doc.write(), bytes); // lossless
 //! let faces = doc.faces().unwrap();

@@ -2,7 +2,7 @@
 //! proptest strategies. Only ever a dev-dependency.
 //!
 //! ```
-//! let path = cadmorph_testkit::sample("hull3.igs");
+//! let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/hull3.igs");
 //! assert!(path.exists());
 //! ```
 

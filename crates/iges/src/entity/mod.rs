@@ -302,7 +302,7 @@ impl Document {
     ///
     /// ```
     /// use cadmorph_iges::{Document, EntityId, View};
-    /// let bytes = std::fs::read(cadmorph_testkit::sample("nurbs_arc.igs")).unwrap();
+    /// let bytes = std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/nurbs_arc.igs")).unwrap();
     /// let doc = Document::parse(&bytes).unwrap();
     /// let View::BSplineCurve(c) = doc.view(EntityId(1)).unwrap() else { panic!() };
     /// assert_eq!((c.degree, c.points.len(), c.weights.is_some()), (2, 3, true));

@@ -122,7 +122,7 @@ impl WorldSurface {
     /// # Examples
     ///
     /// ```
-    /// let bytes = std::fs::read(cadmorph_testkit::sample("mixed_solid.stp")).unwrap();
+    /// let bytes = std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/mixed_solid.stp")).unwrap();
     /// let doc = cadmorph_step::Document::parse(&bytes).unwrap();
     /// let faces = doc.faces().unwrap();
     /// let cyl = faces.iter().find(|f| f.kind == cadmorph_step::SurfaceKind::Cylinder).unwrap();

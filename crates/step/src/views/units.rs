@@ -211,7 +211,7 @@ impl Document {
     /// # Examples
     ///
     /// ```
-    /// let doc = cadmorph_step::Document::parse(&std::fs::read(cadmorph_testkit::sample("hull3.stp")).unwrap()).unwrap();
+    /// let doc = cadmorph_step::Document::parse(&std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/hull3.stp")).unwrap()).unwrap();
     /// let units = doc.units().unwrap();
     /// assert_eq!((units.length.name.as_str(), units.length.metres), ("METRE", 1.0));
     /// assert_eq!(units.uncertainty, Some(1e-7));
