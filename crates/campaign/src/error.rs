@@ -27,28 +27,28 @@ pub enum Error {
         message: String,
     },
     /// A file could not be read or written.
-    #[error("{path}: {source}")]
+    #[error("{path}: {error}")]
     Io {
         /// The file.
         path: PathBuf,
-        /// The I/O error.
-        source: std::io::Error,
+        /// The I/O error (printed in the message, so not a `source()`: each cause once).
+        error: std::io::Error,
     },
     /// The base geometry or the deformation could not be read or applied.
-    #[error("{context}: {source}")]
+    #[error("{context}: {error}")]
     Cad {
         /// What was being done (`reading samples/hull3.igs`, `variant v0003`).
         context: String,
-        /// The cadmorph error.
-        source: cadmorph::Error,
+        /// The cadmorph error (in the message, not a `source()`).
+        error: cadmorph::Error,
     },
     /// The deformation parameters could not be read or built.
-    #[error("{context}: {source}")]
+    #[error("{context}: {error}")]
     Morph {
         /// The parameter file or what was being built.
         context: String,
-        /// The morph error.
-        source: cadmorph::morph::Error,
+        /// The morph error (in the message, not a `source()`).
+        error: cadmorph::morph::Error,
     },
     /// The manifest on disk was planned from other inputs than the campaign now has.
     #[error("{path}: planned from other inputs (campaign hash {found}, now {expected}); plan again into a new folder")]
@@ -89,7 +89,7 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 /// `e` with the path of the file it concerns.
 pub(crate) fn io(path: impl Into<PathBuf>) -> impl FnOnce(std::io::Error) -> Error {
     let path = path.into();
-    move |source| Error::Io { path, source }
+    move |error| Error::Io { path, error }
 }
 
 #[cfg(test)]

@@ -40,7 +40,7 @@ impl Base {
     ///
     /// [`Error::Morph`] when the RBF system or the IDW setup cannot be built.
     pub fn new(params: &Parameters) -> Result<Base> {
-        let err = |source| Error::Morph { context: "building the deformation".into(), source };
+        let err = |error| Error::Morph { context: "building the deformation".into(), error };
         Ok(match params {
             Parameters::Ffd(f) => Base::Ffd(f.clone()),
             Parameters::Rbf(r) => Base::Rbf(Box::new(Rbf::from_parameters(r).map_err(err)?)),
@@ -68,7 +68,7 @@ impl Base {
     /// [`Error::Morph`] for a wrong count or a non-finite value.
     pub fn with_theta(&self, theta: &[f64]) -> Result<Base> {
         let mut b = self.clone();
-        let err = |source| Error::Morph { context: "setting the campaign parameters".into(), source };
+        let err = |error| Error::Morph { context: "setting the campaign parameters".into(), error };
         match &mut b {
             Base::Ffd(f) => f.set_params(theta).map_err(err)?,
             Base::Rbf(r) => r.set_params(theta).map_err(err)?,

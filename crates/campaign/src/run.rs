@@ -81,7 +81,7 @@ pub(crate) fn theta_of(space: &DesignSpace, base_theta: &[f64], mu: &[f64]) -> V
 
 fn cad(context: impl Into<String>) -> impl FnOnce(cadmorph::Error) -> Error {
     let context = context.into();
-    move |source| Error::Cad { context, source }
+    move |error| Error::Cad { context, error }
 }
 
 /// The base geometry refined for the campaign, cached as `base/refined.EXT` with

@@ -308,7 +308,7 @@ impl DesignSpace {
         })?;
         let is_toml = deformation_path.extension().is_some_and(|e| e == "toml");
         let deformation = if is_toml { Parameters::from_toml(&def_text) } else { Parameters::from_prm(&def_text) }
-            .map_err(|source| Error::Morph { context: format!("reading {}", deformation_path.display()), source })?;
+            .map_err(|error| Error::Morph { context: format!("reading {}", deformation_path.display()), error })?;
         let found = match deformation {
             Parameters::Ffd(_) => "ffd",
             Parameters::Rbf(_) => "rbf",
