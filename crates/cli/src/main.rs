@@ -8,6 +8,7 @@
 #[macro_use]
 mod output;
 mod blade;
+mod campaign;
 mod convert;
 mod eval;
 mod grid;
@@ -64,6 +65,8 @@ enum Command {
     /// Evaluate the B-spline faces of an OCCT reference file (`samples/*.ref.json`) on a
     /// grid and compare with OCCT's own evaluation.
     Eval(eval::Args),
+    /// Design-of-experiments campaigns: plan, run (sharded, Slurm), status, collect.
+    Campaign(campaign::Args),
 }
 
 /// Make the main thread worker 0 of rayon's global pool. A parallel loop then starts on
@@ -96,6 +99,7 @@ fn main() -> ExitCode {
         Command::Refine(a) => refine::run(a),
         Command::Convert(a) => convert::run(a),
         Command::Eval(a) => eval::run(a),
+        Command::Campaign(a) => campaign::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
