@@ -82,10 +82,13 @@ struct Doc {
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct FfdToml {
+    #[serde(deserialize_with = "exact::three")]
     n_control_points: [usize; 3],
+    #[serde(deserialize_with = "exact::three")]
     box_origin: [f64; 3],
+    #[serde(deserialize_with = "exact::three")]
     box_length: [f64; 3],
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::three")]
     rot_angle: [f64; 3],
     #[serde(default)]
     mu_x: Vec<f64>,
@@ -102,7 +105,9 @@ struct RbfToml {
     radius: f64,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     k: Option<u32>,
+    #[serde(deserialize_with = "exact::points")]
     original_control_points: Vec<[f64; 3]>,
+    #[serde(deserialize_with = "exact::points")]
     deformed_control_points: Vec<[f64; 3]>,
 }
 
@@ -113,8 +118,34 @@ struct IdwToml {
     power: f64,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     cutoff: Option<f64>,
+    #[serde(deserialize_with = "exact::points")]
     original_control_points: Vec<[f64; 3]>,
+    #[serde(deserialize_with = "exact::points")]
     deformed_control_points: Vec<[f64; 3]>,
+}
+
+/// Arrays of exactly three values. serde's `[T; 3]` takes the first three of a longer
+/// array and drops the rest without a word (`box_length = [4, 20, 600, 0, 0.2]` read as
+/// `[4, 20, 600]`): these read a list and refuse any other length, at the value's line.
+mod exact {
+    use serde::de::{Deserialize, Deserializer, Error};
+
+    pub fn three<'de, D: Deserializer<'de>, T: Deserialize<'de> + Copy>(d: D) -> Result<[T; 3], D::Error> {
+        let v = Vec::<T>::deserialize(d)?;
+        <[T; 3]>::try_from(v.as_slice()).map_err(|_| D::Error::invalid_length(v.len(), &"exactly three values"))
+    }
+
+    pub fn points<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<[f64; 3]>, D::Error> {
+        let v = Vec::<Vec<f64>>::deserialize(d)?;
+        v.iter()
+            .enumerate()
+            .map(|(i, p)| {
+                <[f64; 3]>::try_from(p.as_slice()).map_err(|_| {
+                    D::Error::custom(format!("point {i} has {} coordinates, expected 3 (x, y, z)", p.len()))
+                })
+            })
+            .collect()
+    }
 }
 
 /// Where the keys of a parsed TOML document are, for errors found after parsing: the

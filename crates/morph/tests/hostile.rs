@@ -97,3 +97,19 @@ fn budget_limits_lattices_and_dense_rbf_systems() {
         Ok(_) => panic!("expected TooLarge, got a solved system"),
     }
 }
+
+/// Found by `scripts/fuzz` (params_toml): a five-value `box_length` was read as its first
+/// three values. Arrays of the wrong length are refused at their line.
+#[test]
+fn toml_arrays_of_the_wrong_length_are_refused() {
+    let text =
+        "[ffd]\nn_control_points = [8, 3, 2]\nbox_origin = [-18.0, -30, -1.0]\nbox_length = [4, 20, 600.0, 0.0, 0.2]\n";
+    let err = Parameters::from_toml(text).unwrap_err();
+    assert!(matches!(err, Error::Toml { line: 4, .. }), "{err}");
+    assert!(err.to_string().contains("exactly three"), "{err}");
+    let text = "[ffd]\nn_control_points = [3, 3]\nbox_origin = [0.0, 0.0, 0.0]\nbox_length = [1.0, 1.0, 1.0]\n";
+    assert!(matches!(Parameters::from_toml(text), Err(Error::Toml { line: 2, .. })));
+    let text = "[idw]\nvariant = \"paper\"\npower = 2.0\noriginal_control_points = [[0.0, 0.0, 0.0, 9.0]]\ndeformed_control_points = [[0.0, 0.0, 0.1]]\n";
+    let err = Parameters::from_toml(text).unwrap_err();
+    assert!(matches!(err, Error::Toml { line: 4, .. }) && err.to_string().contains("point 0 has 4"), "{err}");
+}
