@@ -24,6 +24,11 @@ if [ ! -f "$foam_bashrc" ] || ! command -v checkMesh >/dev/null; then
     echo "installing Debian openfoam (blockMesh, checkMesh)" >&2
     sudo=""
     [ "$(id -u)" -eq 0 ] || sudo=sudo
+    # A new machine may have no package lists yet: read them once when apt knows no
+    # openfoam candidate.
+    if ! apt-cache policy openfoam 2>/dev/null | grep -q 'Candidate: [0-9]'; then
+        $sudo apt-get update -q >&2 || true
+    fi
     for attempt in $(seq 1 60); do
         if $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -q openfoam >&2; then
             break
