@@ -8,8 +8,8 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use cadmorph::blade::export::{iges_solids, step_solids};
-use cadmorph::blade::output::write_atomic;
 use cadmorph::blade::{errors_txt, export_ppg, reverse, BladeSolid, DesignTable, ParamFile, Propeller};
+use cadmorph::model::write_atomic;
 use clap::Subcommand;
 
 /// The blade subcommands.
