@@ -10,7 +10,9 @@ mod output;
 mod blade;
 mod campaign;
 mod convert;
+mod entity_names;
 mod eval;
+mod faces;
 mod grid;
 mod info;
 mod limits;
@@ -20,8 +22,11 @@ mod params;
 mod progress;
 mod refine;
 mod sample;
+mod schema;
+mod seam_report;
 mod seams;
 mod skipped;
+mod units;
 
 use std::process::ExitCode;
 
@@ -49,11 +54,12 @@ enum Command {
     /// Surface and volume meshes: morph, check.
     #[command(subcommand)]
     Mesh(mesh::MeshCommand),
-    /// Units, entity counts and faces of an IGES or STEP file.
+    /// Format, units, bounding box, entity counts, faces and curves of an IGES or STEP file.
     Info(info::Args),
     /// Points and normals of every face on an n × n parameter grid.
     Sample(sample::Args),
-    /// C0 gap, G1 angle and C1 mismatch along every shared edge.
+    /// C0 gap, G1 angle and C1 derivative mismatch along every shared edge; with --tol
+    /// or --angle-tol, exit 1 when an edge fails them.
     Seams(seams::Args),
     /// Morph every face with an FFD, RBF or IDW, keep the seams, write the result.
     Morph(morph::Args),
@@ -67,6 +73,9 @@ enum Command {
     Eval(eval::Args),
     /// Design-of-experiments campaigns: plan, run (sharded, Slurm), status, collect.
     Campaign(campaign::Args),
+    /// Print the JSON Schema of every `--json` output (each document's `schema` field
+    /// names its definition).
+    Schema(schema::Args),
 }
 
 /// Make the main thread worker 0 of rayon's global pool. A parallel loop then starts on
@@ -100,6 +109,7 @@ fn main() -> ExitCode {
         Command::Convert(a) => convert::run(a),
         Command::Eval(a) => eval::run(a),
         Command::Campaign(a) => campaign::run(a),
+        Command::Schema(a) => schema::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
