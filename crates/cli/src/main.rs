@@ -13,11 +13,15 @@ mod convert;
 mod entity_names;
 mod eval;
 mod faces;
+mod ffd;
 mod grid;
 mod info;
 mod limits;
 mod mesh;
 mod morph;
+mod morph_json;
+mod morph_warnings;
+mod overrides;
 mod params;
 mod progress;
 mod refine;
@@ -73,6 +77,9 @@ enum Command {
     Eval(eval::Args),
     /// Design-of-experiments campaigns: plan, run (sharded, Slurm), status, collect.
     Campaign(campaign::Args),
+    /// FFD boxes: fit one around a model or some of its faces, show a lattice.
+    #[command(subcommand)]
+    Ffd(ffd::FfdCommand),
     /// Print the JSON Schema of every `--json` output (each document's `schema` field
     /// names its definition).
     Schema(schema::Args),
@@ -110,6 +117,7 @@ fn main() -> ExitCode {
         Command::Eval(a) => eval::run(a),
         Command::Campaign(a) => campaign::run(a),
         Command::Schema(a) => schema::run(a),
+        Command::Ffd(c) => ffd::run(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

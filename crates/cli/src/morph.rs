@@ -10,18 +10,22 @@ use cadmorph::Format;
 
 use crate::progress::Bar;
 
-/// Which parameter file gives the morph.
+/// Which parameter file gives the morph: the positional PARAMS, whose kind (FFD, RBF or
+/// IDW) is read from the file, or one of the flags, which also assert the kind.
 #[derive(clap::Args)]
 #[group(required = true, multiple = false)]
 pub struct Source {
-    /// FFD parameters (PyGeM .prm or TOML).
-    #[arg(long)]
+    /// The parameter file (PyGeM .prm, or .toml; see docs/parameters.md): FFD, RBF or
+    /// IDW, as the file says.
+    params: Option<PathBuf>,
+    /// FFD parameters: as PARAMS, and fail unless the file holds an FFD.
+    #[arg(long, value_name = "PARAMS")]
     ffd: Option<PathBuf>,
-    /// RBF parameters (PyGeM .prm or TOML).
-    #[arg(long)]
+    /// RBF parameters: as PARAMS, and fail unless the file holds an RBF.
+    #[arg(long, value_name = "PARAMS")]
     rbf: Option<PathBuf>,
-    /// IDW parameters (PyGeM .prm or TOML).
-    #[arg(long)]
+    /// IDW parameters: as PARAMS, and fail unless the file holds an IDW.
+    #[arg(long, value_name = "PARAMS")]
     idw: Option<PathBuf>,
 }
 
@@ -36,6 +40,11 @@ pub struct Args {
     output: PathBuf,
     #[command(flatten)]
     source: Source,
+    /// Override an entry of the parameter file: `mu_y[1,1,1]=0.05` (FFD node i,j,k),
+    /// `radius=0.3`, `box_origin[0]=90`, `deformed_control_points[2,1]=0.4`; names as in
+    /// the TOML form (docs/parameters.md). Repeat for several.
+    #[arg(long = "set", value_parser = crate::overrides::parse, value_name = "NAME=VALUE")]
+    set: Vec<crate::overrides::Set>,
     /// Refine so that the seams stay within this gap (model units) after the morph.
     #[arg(long, value_parser = crate::limits::positive)]
     refine_tol: Option<f64>,
@@ -59,7 +68,7 @@ pub struct Args {
     /// Write the seam report (before and after) as JSON here.
     #[arg(long)]
     report: Option<PathBuf>,
-    /// Print the outcome as JSON.
+    /// Print the outcome as JSON (schema `cadmorph.morph/1`, see `cadmorph schema`).
     #[arg(long)]
     json: bool,
 }
@@ -70,15 +79,21 @@ pub fn run(a: Args) -> Result<()> {
     if Format::from_extension(&a.output).is_none() {
         return Err(cadmorph::Error::UnknownExtension { path: a.output.clone() }.into());
     }
-    let (path, kind) = match (&a.source.ffd, &a.source.rbf, &a.source.idw) {
-        (Some(p), _, _) => (p, "ffd"),
-        (_, Some(p), _) => (p, "rbf"),
-        (_, _, Some(p)) => (p, "idw"),
-        _ => bail!("one of --ffd, --rbf, --idw is needed"),
+    let s = &a.source;
+    let (path, kind) = match (&s.params, &s.ffd, &s.rbf, &s.idw) {
+        (Some(p), ..) => (p, None),
+        (_, Some(p), _, _) => (p, Some("ffd")),
+        (_, _, Some(p), _) => (p, Some("rbf")),
+        (_, _, _, Some(p)) => (p, Some("idw")),
+        _ => bail!("give the parameter file (PARAMS, or one of --ffd, --rbf, --idw)"),
     };
-    let d = crate::params::deformation(path, Some(kind))?;
+    let params = crate::overrides::apply(crate::params::read_as(path, kind)?, &a.set)?;
+    let d = params.build().with_context(|| format!("building the morph of {}", path.display()))?;
     let mut m = cadmorph::open(&a.input)?;
     crate::skipped::check(&m.info().skipped, a.skip_unsupported)?;
+    for w in crate::morph_warnings::warnings(&params, m.patches()) {
+        eprintln!("cadmorph: warning: {w}");
+    }
     let before: usize = m.patches().iter().map(|p| p.surface.control_points().len()).sum();
     let refine = match a.refine_tol {
         Some(t) => {
@@ -127,9 +142,11 @@ pub fn run(a: Args) -> Result<()> {
     if let Some(r) = report {
         r.commit()?;
     }
+    if outcome.faces_rewritten == 0 && outcome.curves_rewritten == 0 {
+        eprintln!("cadmorph: warning: the morph moved no control point: 0 faces rewritten, the output equals the input");
+    }
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&outcome)?);
-        return Ok(());
+        return crate::morph_json::print(&a.input, &a.output, path, &params, &m, &outcome, elapsed);
     }
     println!(
         "{} -> {} in {:.1} ms: {} faces and {} curves rewritten, control points {} -> {}",
@@ -150,7 +167,13 @@ pub fn run(a: Args) -> Result<()> {
             r.max_angle_deg
         );
     }
-    println!("seams before ({}):\n{}", m.unit(), outcome.seams_before.table());
-    println!("seams after, read back from the written document:\n{}", outcome.seams_after.table());
+    let info = m.info();
+    let unit = crate::units::words(info.metres_per_unit, &info.unit);
+    let none = crate::seam_report::Check::default();
+    println!("seams before (lengths and gaps in {unit}, angles in degrees):");
+    print!("{}", crate::seam_report::table(&outcome.seams_before, m.patches(), &unit, &none));
+    println!("seams after, read back from the written document:");
+    print!("{}", crate::seam_report::table(&outcome.seams_after, m.patches(), &unit, &none));
+    print!("{}", crate::seam_report::legend(&unit, &none));
     Ok(())
 }

@@ -6,7 +6,7 @@ use anyhow::{bail, Context, Result};
 use cadmorph::morph::{Deformation, Parameters};
 
 /// The parameters in `path` (TOML by the `.toml` extension, else PyGeM `.prm`).
-fn read(path: &Path) -> Result<Parameters> {
+pub fn read(path: &Path) -> Result<Parameters> {
     let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
     let is_toml = path.extension().is_some_and(|e| e == "toml");
     let params = if is_toml { Parameters::from_toml(&text) } else { Parameters::from_prm(&text) };
@@ -14,7 +14,7 @@ fn read(path: &Path) -> Result<Parameters> {
 }
 
 /// `ffd`, `rbf` or `idw`.
-fn kind(p: &Parameters) -> &'static str {
+pub fn kind_of(p: &Parameters) -> &'static str {
     match p {
         Parameters::Ffd(_) => "ffd",
         Parameters::Rbf(_) => "rbf",
@@ -22,13 +22,18 @@ fn kind(p: &Parameters) -> &'static str {
     }
 }
 
-/// The deformation of `path`, which must hold parameters of kind `expect`
-/// (`None`: any kind).
-pub fn deformation(path: &Path, expect: Option<&str>) -> Result<Box<dyn Deformation + Send>> {
+/// The parameters of `path`, which must be of kind `expect` (`None`: any kind).
+pub fn read_as(path: &Path, expect: Option<&str>) -> Result<Parameters> {
     let params = read(path)?;
-    let found = kind(&params);
+    let found = kind_of(&params);
     if let Some(expect) = expect.filter(|e| *e != found) {
         bail!("{} holds {found} parameters, but --{expect} was given", path.display());
     }
-    params.build().with_context(|| format!("building the morph of {}", path.display()))
+    Ok(params)
+}
+
+/// The deformation of `path`, which must hold parameters of kind `expect`
+/// (`None`: any kind).
+pub fn deformation(path: &Path, expect: Option<&str>) -> Result<Box<dyn Deformation + Send>> {
+    read_as(path, expect)?.build().with_context(|| format!("building the morph of {}", path.display()))
 }

@@ -76,7 +76,7 @@ pub fn edge_name(index: usize, e: &EdgeReport, faces: &[Face]) -> String {
     }
 }
 
-/// The table, a legend under it, and the totals. `unit` is the unit in words.
+/// The table and the totals. `unit` is the unit in words.
 pub fn table(r: &SeamReport, faces: &[Face], unit: &str, check: &Check) -> String {
     let mut out = String::new();
     let ends: Vec<(String, String)> = r.edges.iter().map(|e| (end_label(&e.a, faces), end_label(&e.b, faces))).collect();
@@ -115,6 +115,12 @@ pub fn table(r: &SeamReport, faces: &[Face], unit: &str, check: &Check) -> Strin
         r.max_gap_matched,
         r.max_g1_angle_deg,
     );
+    out
+}
+
+/// What the columns of [`table`] mean, and the check in force.
+pub fn legend(unit: &str, check: &Check) -> String {
+    let mut out = String::new();
     let _ = write!(
         out,
         "\nface a, face b: the two faces, as index (entity) in file order (the numbering of `cadmorph info`),\n\

@@ -55,6 +55,7 @@ pub fn run(a: Args) -> Result<()> {
     } else {
         println!("{}: {} shared edges, lengths and gaps in {unit}, angles in degrees", a.file.display(), r.edges.len());
         print!("{}", crate::seam_report::table(&r, m.patches(), &unit, &check));
+        print!("{}", crate::seam_report::legend(&unit, &check));
     }
     let failed: Vec<String> = r
         .edges
