@@ -11,13 +11,13 @@ use cadmorph_testkit::refdata::read_faces;
 pub struct Args {
     /// A `*.ref.json` file.
     file: PathBuf,
-    /// Grid points per direction.
+    /// Grid points per direction (2 to 1000).
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(2..=1000))]
     grid: u32,
-    /// Only this face (0-based).
+    /// Only this face (its index in the reference file, the numbering of `cadmorph info`).
     #[arg(long)]
     face: Option<usize>,
-    /// Print JSON instead of a table.
+    /// Print JSON instead of a table (schema `cadmorph.eval/1`, see `cadmorph schema`).
     #[arg(long)]
     json: bool,
 }
@@ -73,7 +73,7 @@ pub fn run(a: Args) -> Result<()> {
         }
     }
     if json {
-        println!("{}", serde_json::to_string_pretty(&out)?);
+        return crate::schema::print("eval", serde_json::json!({ "file": file.display().to_string(), "faces": out }));
     }
     Ok(())
 }

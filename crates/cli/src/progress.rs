@@ -7,16 +7,21 @@ use cadmorph::model::Progress;
 pub struct Bar(indicatif::ProgressBar);
 
 impl Bar {
-    /// A spinner with the stage name, a bar and a step count.
+    /// A bar that shows nothing until the first stage starts.
     pub fn new() -> Self {
         let bar = indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr());
-        if let Ok(style) =
-            indicatif::ProgressStyle::with_template("{spinner} {msg:<22} {wide_bar} {pos}/{len} {elapsed}")
-        {
-            bar.set_style(style);
-        }
         bar.enable_steady_tick(std::time::Duration::from_millis(120));
         Self(bar)
+    }
+
+    /// The style of a stage of `total` steps (0: unknown).
+    fn style(total: u64) -> Option<indicatif::ProgressStyle> {
+        let template = if total == 0 {
+            "{spinner} {msg:<24} {elapsed}"
+        } else {
+            "{spinner} {msg:<24} {wide_bar} {pos}/{len} {elapsed}"
+        };
+        indicatif::ProgressStyle::with_template(template).ok()
     }
 }
 
@@ -28,11 +33,17 @@ impl Drop for Bar {
 
 impl Progress for Bar {
     fn start(&self, stage: &str, total: u64) {
+        if let Some(style) = Self::style(total) {
+            self.0.set_style(style);
+        }
         self.0.set_message(stage.to_owned());
         self.0.set_length(total);
         self.0.set_position(0);
     }
     fn step(&self, n: u64) {
-        self.0.inc(n);
+        // A stage of unknown size counts nothing past its (zero) length.
+        if self.0.length().unwrap_or(0) > 0 {
+            self.0.inc(n);
+        }
     }
 }

@@ -17,15 +17,19 @@ pub struct Args {
     /// This many evenly spaced knots per direction on every face.
     #[arg(long, conflicts_with_all = ["for_params", "tol"])]
     knots: Option<usize>,
-    /// Refine for this morph (FFD/RBF/IDW parameter file) ...
+    /// Refine for this morph: a parameter file (PyGeM .prm or .toml) whose kind, FFD,
+    /// RBF or IDW, is read from the file ...
     #[arg(long = "for", requires = "tol")]
     for_params: Option<PathBuf>,
-    /// ... so that the seams stay within this gap after it.
+    /// ... so that the seams stay within this gap (model units) after it.
     #[arg(long, value_parser = crate::limits::positive)]
     tol: Option<f64>,
     /// Refine the faces that convert and keep the others as they are.
     #[arg(long)]
     skip_unsupported: bool,
+    /// Print the outcome as JSON (schema `cadmorph.refine/1`, see `cadmorph schema`).
+    #[arg(long)]
+    json: bool,
 }
 
 /// Runs `refine`.
@@ -43,6 +47,20 @@ pub fn run(a: Args) -> Result<()> {
         _ => bail!("give --knots N, or --for PARAMS with --tol T"),
     };
     cadmorph::save_as(&m, &a.output)?;
+    if a.json {
+        let info = m.info();
+        return crate::schema::print(
+            "refine",
+            serde_json::json!({
+                "input": a.input.display().to_string(),
+                "output": a.output.display().to_string(),
+                "unit": crate::units::json(info.metres_per_unit, &info.unit),
+                "faces": m.patches().len(),
+                "control_points_before": before,
+                "control_points_after": after,
+            }),
+        );
+    }
     println!("{} -> {}: control points {before} -> {after}", a.input.display(), a.output.display());
     Ok(())
 }

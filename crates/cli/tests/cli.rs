@@ -1,22 +1,15 @@
 //! End-to-end tests of the `cadmorph` binary.
 
-use std::process::Command;
+mod common;
 
-/// The workspace root, where the `samples/` paths of the commands below start.
-fn root() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn cadmorph(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_cadmorph")).args(args).current_dir(root()).output().expect("the binary runs")
-}
+use common::{cadmorph, root, Scratch};
 
 #[test]
 fn eval_reports_occt_agreement_for_every_hull_face() {
     let out = cadmorph(&["eval", "samples/hull3.igs.ref.json", "--grid", "4", "--json"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let faces: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
-    let faces = faces.as_array().expect("a list");
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let faces = doc["faces"].as_array().expect("a list");
     assert_eq!(faces.len(), 3);
     for f in faces {
         assert!(f["max_point_difference_relative"].as_f64().unwrap() < 1e-9, "{f}");
@@ -50,7 +43,7 @@ fn info_lists_faces_of_iges_and_step() {
         let out = cadmorph(&["info", name, "--json"]);
         assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
         let info: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-        assert_eq!(info["patches"].as_array().unwrap().len(), faces, "{name}");
+        assert_eq!(info["faces"].as_array().unwrap().len(), faces, "{name}");
     }
 }
 
@@ -58,8 +51,8 @@ fn info_lists_faces_of_iges_and_step() {
 fn sample_gives_grid_points_per_face() {
     let out = cadmorph(&["sample", "samples/hull3.igs", "--grid", "3", "--json"]);
     assert!(out.status.success());
-    let faces: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let faces = faces.as_array().unwrap();
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let faces = doc["faces"].as_array().unwrap();
     assert_eq!(faces.len(), 3);
     assert_eq!(faces[0]["grid"].as_array().unwrap().len(), 9);
 }
@@ -69,15 +62,15 @@ fn seams_of_the_defect_hull_match_occt() {
     let out = cadmorph(&["seams", "samples/hull3_defect.igs", "--json"]);
     assert!(out.status.success());
     let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let gap = r["max_gap_closest"].as_f64().unwrap();
+    let gap = r["summary"]["max_gap_closest"].as_f64().unwrap();
     // OCCT's independent measurement (samples/hull3_defect.igs.check.json): 2.4442e-3 m.
     assert!((gap - 2.4442325e-3).abs() < 0.01 * 2.4442325e-3, "{gap}");
 }
 
 #[test]
 fn morph_writes_a_file_and_reports_seams() {
-    let dir = std::env::temp_dir().join(format!("cadmorph-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let scratch = Scratch::new("morph");
+    let dir = scratch.dir();
     let out_file = dir.join("hull3_morphed.igs");
     let report = dir.join("report.json");
     let out = cadmorph(&[
@@ -110,8 +103,8 @@ fn morph_writes_a_file_and_reports_seams() {
 
 #[test]
 fn refine_writes_step_and_iges_with_the_same_geometry() {
-    let dir = std::env::temp_dir().join(format!("cadmorph-cli-refine-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let scratch = Scratch::new("refine");
+    let dir = scratch.dir();
     for name in ["hull3.stp", "hull3.igs"] {
         let out_file = dir.join(name);
         let input = format!("samples/{name}");
@@ -134,8 +127,8 @@ fn refine_writes_step_and_iges_with_the_same_geometry() {
 
 #[test]
 fn inputs_of_no_format_and_outputs_of_no_writer_are_refused() {
-    let dir = std::env::temp_dir().join(format!("cadmorph-cli-refuse-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let scratch = Scratch::new("refuse");
+    let dir = scratch.dir();
     let text = dir.join("notes.txt");
     std::fs::write(&text, "not a CAD file\n").unwrap();
     let empty = dir.join("empty.stp");
@@ -166,8 +159,8 @@ fn inputs_of_no_format_and_outputs_of_no_writer_are_refused() {
 /// single time on the error line.
 #[test]
 fn errors_print_each_cause_once() {
-    let dir = std::env::temp_dir().join(format!("cadmorph-cli-once-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let scratch = Scratch::new("once");
+    let dir = scratch.dir();
     let mut bytes = std::fs::read(root().join("samples/hull3.igs")).unwrap();
     // Break the column-73 section letter of a directory entry line.
     let line = bytes.split(|&b| b == b'\n').position(|l| l.get(72) == Some(&b'D')).unwrap();
@@ -185,8 +178,8 @@ fn errors_print_each_cause_once() {
 
 #[test]
 fn convert_writes_the_format_of_the_extension() {
-    let dir = std::env::temp_dir().join(format!("cadmorph-cli-convert-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let scratch = Scratch::new("convert");
+    let dir = scratch.dir();
     for (input, output, format) in [
         ("samples/hull3.igs", "hull3.stp", cadmorph::Format::Step),
         ("samples/hull3.stp", "hull3.igs", cadmorph::Format::Iges),

@@ -256,8 +256,8 @@ fn offset_surface_faces_move_too() {
 #[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
 fn occt_reads_morphed_files() {
     let ffd = bow_dome();
-    let dir = std::env::temp_dir().join(format!("cadmorph-model-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let scratch = cadmorph_testkit::Scratch::new("model");
+    let dir = scratch.dir();
     for (name, opts) in [
         (
             "hull3.igs",

@@ -142,8 +142,8 @@ fn occt_matches_analytic_faces(name: &str) -> usize {
     for (k, w) in worlds.iter().enumerate() {
         request.insert(k.to_string(), serde_json::json!(grid(w)));
     }
-    let dir = std::env::temp_dir().join(format!("cadmorph-step-eval-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let scratch = cadmorph_testkit::Scratch::new(&format!("step-eval-{name}"));
+    let dir = scratch.dir();
     let req = dir.join("request.json");
     std::fs::write(&req, serde_json::json!({ "faces": request }).to_string()).unwrap();
     let (code, out) = cadmorph_testkit::harness::validate(&cadmorph_testkit::sample(name), Some(&req));

@@ -6,7 +6,7 @@
 //! assert!(path.exists());
 //! ```
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 pub mod occt;
 pub mod refdata;
@@ -138,4 +138,34 @@ pub fn occt_bench_surface() -> cadmorph_nurbs::NurbsSurface {
         .collect();
     let k = || KnotVector::clamped_uniform(3, 10);
     NurbsSurface::new((3, 3), (k(), k()), (10, 10), pts, None)
+}
+
+/// A scratch folder under the system's temporary folder, `cadmorph-<name>-<pid>`, made
+/// empty when created and removed when dropped, also when the test fails and unwinds,
+/// so tests leave nothing in `$TMPDIR`.
+pub struct Scratch(PathBuf);
+
+impl Scratch {
+    /// A fresh, empty folder.
+    ///
+    /// # Panics
+    ///
+    /// When the folder cannot be made.
+    pub fn new(name: &str) -> Scratch {
+        let d = std::env::temp_dir().join(format!("cadmorph-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).expect("a scratch folder");
+        Scratch(d)
+    }
+
+    /// The folder.
+    pub fn dir(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
 }
