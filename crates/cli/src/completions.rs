@@ -8,9 +8,11 @@ use anyhow::{Context, Result};
 
 /// Arguments of `completions`.
 #[derive(clap::Args)]
-#[command(after_help = "Install, for example: cadmorph completions bash > ~/.local/share/bash-completion/completions/cadmorph; \
+#[command(
+    after_help = "Install, for example: cadmorph completions bash > ~/.local/share/bash-completion/completions/cadmorph; \
                         cadmorph completions zsh > ~/.zfunc/_cadmorph; \
-                        cadmorph completions fish > ~/.config/fish/completions/cadmorph.fish")]
+                        cadmorph completions fish > ~/.config/fish/completions/cadmorph.fish"
+)]
 pub struct CompletionArgs {
     /// The shell.
     shell: clap_complete::Shell,

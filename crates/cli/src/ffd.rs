@@ -110,14 +110,17 @@ pub fn select_faces(around: &[String], faces: &[cadmorph::brep::Face]) -> Result
     for a in around.iter().flat_map(|a| a.split(',')).map(str::trim).filter(|a| !a.is_empty()) {
         let found = match a.parse::<usize>() {
             Ok(i) if i < faces.len() => Some(i),
-            Ok(i) => bail!("--around {a}: there is no face {i} (the file has faces 0 to {})", faces.len().saturating_sub(1)),
+            Ok(i) => {
+                bail!("--around {a}: there is no face {i} (the file has faces 0 to {})", faces.len().saturating_sub(1))
+            }
             Err(_) => faces.iter().position(|f| squash(&f.entity.to_string()) == squash(a)),
         };
         match found {
             Some(i) if !out.contains(&i) => out.push(i),
             Some(_) => {}
             None => {
-                let known: Vec<String> = faces.iter().enumerate().map(|(i, f)| crate::faces::label(i, &f.entity)).collect();
+                let known: Vec<String> =
+                    faces.iter().enumerate().map(|(i, f)| crate::faces::label(i, &f.entity)).collect();
                 bail!("--around {a:?} names no face: give an index or a face entity, one of {}", known.join(", "));
             }
         }
@@ -188,9 +191,24 @@ pub fn fit(a: FitArgs) -> Result<()> {
         );
     }
     let names: Vec<String> = chosen.iter().map(|&i| crate::faces::label(i, &m.patches()[i].entity)).collect();
-    println!("{} -> {}: {}x{}x{} lattice around {} face(s): {}", a.input.display(), a.output.display(), a.lattice[0], a.lattice[1], a.lattice[2], chosen.len(), names.join(", "));
-    println!("  control points span x {:.6} .. {:.6}, y {:.6} .. {:.6}, z {:.6} .. {:.6} {unit}", bbox.min.x, bbox.max.x, bbox.min.y, bbox.max.y, bbox.min.z, bbox.max.z);
-    println!("  box origin ({:.6}, {:.6}, {:.6}), lengths ({:.6}, {:.6}, {:.6}) {unit}; all displacements 0", origin.x, origin.y, origin.z, length.x, length.y, length.z);
+    println!(
+        "{} -> {}: {}x{}x{} lattice around {} face(s): {}",
+        a.input.display(),
+        a.output.display(),
+        a.lattice[0],
+        a.lattice[1],
+        a.lattice[2],
+        chosen.len(),
+        names.join(", ")
+    );
+    println!(
+        "  control points span x {:.6} .. {:.6}, y {:.6} .. {:.6}, z {:.6} .. {:.6} {unit}",
+        bbox.min.x, bbox.max.x, bbox.min.y, bbox.max.y, bbox.min.z, bbox.max.z
+    );
+    println!(
+        "  box origin ({:.6}, {:.6}, {:.6}), lengths ({:.6}, {:.6}, {:.6}) {unit}; all displacements 0",
+        origin.x, origin.y, origin.z, length.x, length.y, length.z
+    );
     Ok(())
 }
 
@@ -202,7 +220,11 @@ pub fn on_boundary([i, j, k]: [usize; 3], [l, m, n]: [usize; 3]) -> bool {
 /// Runs `ffd show`.
 pub fn show(a: ShowArgs) -> Result<()> {
     let Parameters::Ffd(f) = crate::params::read(&a.file)? else {
-        bail!("{} holds {} parameters; `ffd show` shows FFD lattices", a.file.display(), crate::params::kind_of(&crate::params::read(&a.file)?));
+        bail!(
+            "{} holds {} parameters; `ffd show` shows FFD lattices",
+            a.file.display(),
+            crate::params::kind_of(&crate::params::read(&a.file)?)
+        );
     };
     let shape = f.n_control_points();
     let [l, m, n] = shape;
@@ -218,7 +240,8 @@ pub fn show(a: ShowArgs) -> Result<()> {
         }
     }
     let moving = nodes.iter().filter(|(_, mu, _, _)| mu.iter().any(|c| *c != 0.0)).count();
-    let boundary_moving = nodes.iter().filter(|(ijk, mu, _, _)| on_boundary(*ijk, shape) && mu.iter().any(|c| *c != 0.0)).count();
+    let boundary_moving =
+        nodes.iter().filter(|(ijk, mu, _, _)| on_boundary(*ijk, shape) && mu.iter().any(|c| *c != 0.0)).count();
     if a.json {
         let list: Vec<_> = nodes
             .iter()
@@ -239,13 +262,31 @@ pub fn show(a: ShowArgs) -> Result<()> {
         );
     }
     println!("{}: FFD lattice {l}x{m}x{n} ({} nodes, {moving} with a displacement, {boundary_moving} of them on the box faces)", a.file.display(), l * m * n);
-    println!("  box origin ({}, {}, {}), lengths ({}, {}, {}), rotation ({}, {}, {}) degrees", o.x, o.y, o.z, len.x, len.y, len.z, rot.x, rot.y, rot.z);
+    println!(
+        "  box origin ({}, {}, {}), lengths ({}, {}, {}), rotation ({}, {}, {}) degrees",
+        o.x, o.y, o.z, len.x, len.y, len.z, rot.x, rot.y, rot.z
+    );
     println!("  mu: displacement in units of the box lengths (PyGeM's convention); B: a node on a box face");
-    println!("{:>3} {:>3} {:>3} {:>1} {:>9} {:>9} {:>9} {:>13} {:>13} {:>13} {:>13} {:>13} {:>13}", "i", "j", "k", "", "mu_x", "mu_y", "mu_z", "x", "y", "z", "x moved", "y moved", "z moved");
+    println!(
+        "{:>3} {:>3} {:>3} {:>1} {:>9} {:>9} {:>9} {:>13} {:>13} {:>13} {:>13} {:>13} {:>13}",
+        "i", "j", "k", "", "mu_x", "mu_y", "mu_z", "x", "y", "z", "x moved", "y moved", "z moved"
+    );
     for (ijk, mu, p, q) in &nodes {
         println!(
             "{:>3} {:>3} {:>3} {:>1} {:>9.4} {:>9.4} {:>9.4} {:>13.6} {:>13.6} {:>13.6} {:>13.6} {:>13.6} {:>13.6}",
-            ijk[0], ijk[1], ijk[2], if on_boundary(*ijk, shape) { "B" } else { "" }, mu[0], mu[1], mu[2], p.x, p.y, p.z, q.x, q.y, q.z
+            ijk[0],
+            ijk[1],
+            ijk[2],
+            if on_boundary(*ijk, shape) { "B" } else { "" },
+            mu[0],
+            mu[1],
+            mu[2],
+            p.x,
+            p.y,
+            p.z,
+            q.x,
+            q.y,
+            q.z
         );
     }
     Ok(())

@@ -54,7 +54,11 @@ pub fn run(a: Args) -> Result<()> {
     let i = m.info();
     let unit = crate::units::words(i.metres_per_unit, &i.unit);
     let schema = step_schema(&a.file, i.format);
-    let boxes = m.patches().iter().map(|p| p.surface.bounding_box()).chain(m.free_curves().iter().map(|c| c.curve.bounding_box()));
+    let boxes = m
+        .patches()
+        .iter()
+        .map(|p| p.surface.bounding_box())
+        .chain(m.free_curves().iter().map(|c| c.curve.bounding_box()));
     let bbox = boxes.reduce(|x, y| x.union(&y));
     let size = bbox.map_or(0.0, |b: Aabb| b.diagonal());
     let mut counts: Vec<(&String, &usize)> = i.entity_counts.iter().collect();
@@ -135,7 +139,10 @@ pub fn run(a: Args) -> Result<()> {
     if i.patches.is_empty() {
         println!("faces: none");
     } else {
-        println!("faces ({}; index (entity) is the numbering of `seams`, `ffd fit --around` and JSON):", i.patches.len());
+        println!(
+            "faces ({}; index (entity) is the numbering of `seams`, `ffd fit --around` and JSON):",
+            i.patches.len()
+        );
         println!(
             "{:<20} {:<12} {:<28} {:>7} {:>8} {:>9} {:>8} {:>9}",
             "face", "surface", "type", "degree", "poles", "rational", "trimmed", "analytic"

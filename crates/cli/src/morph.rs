@@ -143,7 +143,9 @@ pub fn run(a: Args) -> Result<()> {
         r.commit()?;
     }
     if outcome.faces_rewritten == 0 && outcome.curves_rewritten == 0 {
-        eprintln!("cadmorph: warning: the morph moved no control point: 0 faces rewritten, the output equals the input");
+        eprintln!(
+            "cadmorph: warning: the morph moved no control point: 0 faces rewritten, the output equals the input"
+        );
     }
     if a.json {
         return crate::morph_json::print(&a.input, &a.output, path, &params, &m, &outcome, elapsed);

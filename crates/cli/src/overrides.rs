@@ -28,10 +28,13 @@ pub fn parse(s: &str) -> Result<Set, String> {
     let lhs = lhs.trim();
     let (name, index) = match lhs.split_once('[') {
         Some((name, rest)) => {
-            let inner = rest.strip_suffix(']').ok_or_else(|| format!("{s:?}: the index of {name} needs a closing ]"))?;
+            let inner =
+                rest.strip_suffix(']').ok_or_else(|| format!("{s:?}: the index of {name} needs a closing ]"))?;
             let index = inner
                 .split(',')
-                .map(|i| i.trim().parse::<usize>().map_err(|_| format!("{s:?}: index {:?} is not a whole number", i.trim())))
+                .map(|i| {
+                    i.trim().parse::<usize>().map_err(|_| format!("{s:?}: index {:?} is not a whole number", i.trim()))
+                })
                 .collect::<Result<Vec<_>, _>>()?;
             (name.trim(), index)
         }
@@ -70,9 +73,10 @@ fn apply_one(t: &mut Table, kind: &str, s: &Set) -> Result<()> {
         bail!("the lattice size cannot be set (its displacements would no longer fit); use `cadmorph ffd fit`");
     }
     let new = value(&s.value);
-    let shape: Option<[usize; 3]> = t.get("n_control_points").and_then(Value::as_array).and_then(|a| {
-        Some([as_usize(a.first())?, as_usize(a.get(1))?, as_usize(a.get(2))?])
-    });
+    let shape: Option<[usize; 3]> = t
+        .get("n_control_points")
+        .and_then(Value::as_array)
+        .and_then(|a| Some([as_usize(a.first())?, as_usize(a.get(1))?, as_usize(a.get(2))?]));
     let slot = t.get_mut(&s.name);
     match (slot, s.index.as_slice()) {
         (Some(slot), []) => *slot = new,
@@ -94,12 +98,15 @@ fn apply_one(t: &mut Table, kind: &str, s: &Set) -> Result<()> {
                 _ => bail!("{} takes one index, or a point and a coordinate ([p] or [p,c])", s.name),
             };
             let len = a.len();
-            let first = a.get_mut(flat[0]).ok_or_else(|| anyhow!("index {} is past the {len} entries of {}", flat[0], s.name))?;
+            let first = a
+                .get_mut(flat[0])
+                .ok_or_else(|| anyhow!("index {} is past the {len} entries of {}", flat[0], s.name))?;
             match (first, flat.get(1)) {
                 (slot, None) => *slot = new,
                 (Value::Array(p), Some(&c)) => {
                     let n = p.len();
-                    *p.get_mut(c).ok_or_else(|| anyhow!("coordinate {c} is past the {n} of a point (0, 1, 2: x, y, z)"))? = new;
+                    *p.get_mut(c)
+                        .ok_or_else(|| anyhow!("coordinate {c} is past the {n} of a point (0, 1, 2: x, y, z)"))? = new;
                 }
                 _ => bail!("{}[{}] is not a point, so it takes one index", s.name, flat[0]),
             }
@@ -134,7 +141,8 @@ pub fn apply(params: Parameters, sets: &[Set]) -> Result<Parameters> {
 mod tests {
     use super::*;
 
-    const FFD: &str = "[ffd]\nn_control_points = [2, 3, 2]\nbox_origin = [0.0, 0.0, 0.0]\nbox_length = [1.0, 1.0, 1.0]\n";
+    const FFD: &str =
+        "[ffd]\nn_control_points = [2, 3, 2]\nbox_origin = [0.0, 0.0, 0.0]\nbox_length = [1.0, 1.0, 1.0]\n";
 
     fn set(s: &str) -> Set {
         parse(s).unwrap()
@@ -143,7 +151,9 @@ mod tests {
     #[test]
     fn a_lattice_node_is_set_in_c_order() {
         let p = Parameters::from_toml(FFD).unwrap();
-        let Parameters::Ffd(f) = apply(p, &[set("mu_y[1,2,0]=0.05"), set("box_origin[2]=4")]).unwrap() else { panic!() };
+        let Parameters::Ffd(f) = apply(p, &[set("mu_y[1,2,0]=0.05"), set("box_origin[2]=4")]).unwrap() else {
+            panic!()
+        };
         assert_eq!(f.mu().get(1, 2, 0), [0.0, 0.05, 0.0]);
         assert_eq!(f.mu().y.iter().filter(|v| **v != 0.0).count(), 1);
         assert_eq!(f.box_origin().z, 4.0);
@@ -166,7 +176,8 @@ mod tests {
     fn rbf_radius_and_points() {
         let text = "[rbf]\nkernel = \"gaussian_spline\"\nradius = 0.5\noriginal_control_points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]\ndeformed_control_points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]\n";
         let p = Parameters::from_toml(text).unwrap();
-        let Parameters::Rbf(r) = apply(p, &[set("radius=0.3"), set("deformed_control_points[1,2]=0.25")]).unwrap() else {
+        let Parameters::Rbf(r) = apply(p, &[set("radius=0.3"), set("deformed_control_points[1,2]=0.25")]).unwrap()
+        else {
             panic!()
         };
         assert_eq!(r.kernel.radius(), 0.3);

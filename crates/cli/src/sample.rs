@@ -32,7 +32,11 @@ pub fn run(a: Args) -> Result<()> {
                 "grid": crate::grid::json(&rows),
             }));
         } else {
-            println!("face {} ({}), points in {unit}, unit normals oriented with the face:", crate::faces::label(i, &p.entity), p.type_name);
+            println!(
+                "face {} ({}), points in {unit}, unit normals oriented with the face:",
+                crate::faces::label(i, &p.entity),
+                p.type_name
+            );
             crate::grid::print(&rows);
         }
     }

@@ -27,10 +27,11 @@ impl Check {
     /// What edge `e` fails: `"gap"`, `"angle"` (empty: it passes or nothing is checked).
     pub fn failures(&self, e: &EdgeReport) -> Vec<&'static str> {
         let mut out = Vec::new();
-        if self.tol.is_some_and(|t| !(e.gap_closest.max <= t)) {
+        // A NaN measurement fails too.
+        if self.tol.is_some_and(|t| e.gap_closest.max.is_nan() || e.gap_closest.max > t) {
             out.push("gap");
         }
-        if self.angle_tol.is_some_and(|a| !e.sharp && !(e.g1_angle_deg.max <= a)) {
+        if self.angle_tol.is_some_and(|a| !e.sharp && (e.g1_angle_deg.max.is_nan() || e.g1_angle_deg.max > a)) {
             out.push("angle");
         }
         out
@@ -50,7 +51,8 @@ fn side_name(end: &EdgeEnd) -> &'static str {
 
 /// `1 (DE 7) u_max`: the face of one side of an edge, and its iso-boundary.
 pub fn end_label(end: &EdgeEnd, faces: &[Face]) -> String {
-    let face = faces.get(end.patch).map_or_else(|| end.patch.to_string(), |f| crate::faces::label(end.patch, &f.entity));
+    let face =
+        faces.get(end.patch).map_or_else(|| end.patch.to_string(), |f| crate::faces::label(end.patch, &f.entity));
     match side_name(end) {
         "" => face,
         side => format!("{face} {side}"),
@@ -79,13 +81,23 @@ pub fn edge_name(index: usize, e: &EdgeReport, faces: &[Face]) -> String {
 /// The table and the totals. `unit` is the unit in words.
 pub fn table(r: &SeamReport, faces: &[Face], unit: &str, check: &Check) -> String {
     let mut out = String::new();
-    let ends: Vec<(String, String)> = r.edges.iter().map(|e| (end_label(&e.a, faces), end_label(&e.b, faces))).collect();
+    let ends: Vec<(String, String)> =
+        r.edges.iter().map(|e| (end_label(&e.a, faces), end_label(&e.b, faces))).collect();
     let wa = ends.iter().map(|(a, _)| a.len()).chain([6]).max().unwrap_or(6);
     let wb = ends.iter().map(|(_, b)| b.len()).chain([6]).max().unwrap_or(6);
     let _ = write!(
         out,
         "{:>4}  {:<wa$}  {:<wb$}  {:>10} {:>11} {:>11} {:>11} {:>10} {:>10}  {:<13}",
-        "edge", "face a", "face b", "length", "gap closest", "gap matched", "gap mean", "G1 angle", "C1 deriv", "edge entity"
+        "edge",
+        "face a",
+        "face b",
+        "length",
+        "gap closest",
+        "gap matched",
+        "gap mean",
+        "G1 angle",
+        "C1 deriv",
+        "edge entity"
     );
     let _ = writeln!(out, "{}", if check.is_set() { "  check" } else { "" });
     for (i, (e, (a, b))) in r.edges.iter().zip(&ends).enumerate() {
@@ -102,7 +114,8 @@ pub fn table(r: &SeamReport, faces: &[Face], unit: &str, check: &Check) -> Strin
         );
         if check.is_set() {
             let f = check.failures(e);
-            let _ = write!(out, "  {}", if f.is_empty() { "ok".to_owned() } else { format!("FAIL ({})", f.join(", ")) });
+            let _ =
+                write!(out, "  {}", if f.is_empty() { "ok".to_owned() } else { format!("FAIL ({})", f.join(", ")) });
         }
         let _ = writeln!(out);
     }

@@ -29,7 +29,17 @@ fn the_fitted_box_holds_the_bow_with_the_margin_and_the_morph_moves_only_what_it
     let s = Scratch::new("ffd-fit");
     let fitted = s.path("bow.toml");
     let out = cadmorph(&[
-        "ffd", "fit", "samples/hull3.igs", "--lattice", "4x3x3", "--margin", "5%", "--around", "DE 11", "-o", &fitted,
+        "ffd",
+        "fit",
+        "samples/hull3.igs",
+        "--lattice",
+        "4x3x3",
+        "--margin",
+        "5%",
+        "--around",
+        "DE 11",
+        "-o",
+        &fitted,
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
     let (origin, length, lattice) = read_box(&fitted);
@@ -58,14 +68,25 @@ fn the_fitted_box_holds_the_bow_with_the_margin_and_the_morph_moves_only_what_it
     };
     for (u, v) in cadmorph_testkit::grid(&bow.surface, 15) {
         let p = bow.surface.eval(u, v);
-        assert!((0..3).all(|a| p[a] >= origin[a] + 0.05 * extent[a] * 0.999 - 1e-9
-            && p[a] <= origin[a] + length[a] - 0.05 * extent[a] * 0.999 + 1e-9), "surface point {p} within the margin");
+        assert!(
+            (0..3).all(|a| p[a] >= origin[a] + 0.05 * extent[a] * 0.999 - 1e-9
+                && p[a] <= origin[a] + length[a] - 0.05 * extent[a] * 0.999 + 1e-9),
+            "surface point {p} within the margin"
+        );
     }
 
     // Morph with two inner lattice nodes moved.
     let morphed = s.path("bow.igs");
     let out = cadmorph(&[
-        "morph", "samples/hull3.igs", "-o", &morphed, &fitted, "--set", "mu_y[1,1,1]=0.05", "--set", "mu_z[2,1,1]=-0.04",
+        "morph",
+        "samples/hull3.igs",
+        "-o",
+        &morphed,
+        &fitted,
+        "--set",
+        "mu_y[1,1,1]=0.05",
+        "--set",
+        "mu_z[2,1,1]=-0.04",
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(!stderr(&out).contains("warning"), "inner nodes only, a box that holds the bow: {}", stderr(&out));
@@ -126,7 +147,10 @@ fn show_prints_the_lattice_and_the_boundary_nodes() {
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
     // bow_dome.prm: 5x4x4, 12 inner nodes move (samples/prm/README.md), none on the faces.
-    assert!(text.contains("FFD lattice 5x4x4 (80 nodes, 12 with a displacement, 0 of them on the box faces)"), "{text}");
+    assert!(
+        text.contains("FFD lattice 5x4x4 (80 nodes, 12 with a displacement, 0 of them on the box faces)"),
+        "{text}"
+    );
     assert_eq!(text.lines().filter(|l| l.trim_start().chars().next().is_some_and(|c| c.is_ascii_digit())).count(), 80);
     let out = cadmorph(&["ffd", "show", "samples/pygem/parameters_idw_default.prm"]);
     assert_eq!(out.status.code(), Some(1));
@@ -137,20 +161,39 @@ fn show_prints_the_lattice_and_the_boundary_nodes() {
 fn morph_warns_of_a_box_that_misses_and_of_moving_boundary_nodes() {
     let s = Scratch::new("ffd-warn");
     let out = cadmorph(&[
-        "morph", "samples/hull3.igs", "-o", &s.path("o.igs"), "samples/prm/bow_dome.prm", "--set", "box_origin[0]=1000",
+        "morph",
+        "samples/hull3.igs",
+        "-o",
+        &s.path("o.igs"),
+        "samples/prm/bow_dome.prm",
+        "--set",
+        "box_origin[0]=1000",
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
     let err = stderr(&out);
     assert!(err.contains("holds no control point of any of the 3 faces"), "{err}");
     assert!(err.contains("0 faces rewritten"), "{err}");
     let out = cadmorph(&[
-        "morph", "samples/hull3.igs", "-o", &s.path("o2.igs"), "samples/prm/bow_dome.prm", "--set", "mu_y[0,1,1]=0.02",
+        "morph",
+        "samples/hull3.igs",
+        "-o",
+        &s.path("o2.igs"),
+        "samples/prm/bow_dome.prm",
+        "--set",
+        "mu_y[0,1,1]=0.02",
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(stderr(&out).contains("1 of the FFD's lattice nodes on the box faces move ([0,1,1])"), "{}", stderr(&out));
     // A parameter of another kind is refused with the names there are, and nothing is written.
-    let out =
-        cadmorph(&["morph", "samples/hull3.igs", "-o", &s.path("o3.igs"), "samples/prm/bow_dome.prm", "--set", "radius=3"]);
+    let out = cadmorph(&[
+        "morph",
+        "samples/hull3.igs",
+        "-o",
+        &s.path("o3.igs"),
+        "samples/prm/bow_dome.prm",
+        "--set",
+        "radius=3",
+    ]);
     assert_eq!(out.status.code(), Some(1));
     assert!(stderr(&out).contains("ffd parameters have no \"radius\""), "{}", stderr(&out));
     assert!(!std::path::Path::new(&s.path("o3.igs")).exists());

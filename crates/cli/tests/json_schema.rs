@@ -57,9 +57,10 @@ fn every_json_output_follows_the_schema() {
     assert_eq!(doc["check"]["pass"], false);
     // `cadmorph schema` prints the shipped file.
     let printed = json_of(&["schema"]);
-    let shipped: Value =
-        serde_json::from_str(&std::fs::read_to_string(common::root().join("crates/cli/schema/cadmorph.schema.json")).unwrap())
-            .unwrap();
+    let shipped: Value = serde_json::from_str(
+        &std::fs::read_to_string(common::root().join("crates/cli/schema/cadmorph.schema.json")).unwrap(),
+    )
+    .unwrap();
     assert_eq!(printed, shipped);
 }
 

@@ -85,12 +85,8 @@ fn every_readme_command_runs_from_a_clean_clone() {
             check_cargo_line(&clone, line);
             continue;
         }
-        let out = Command::new("bash")
-            .args(["-c", line])
-            .current_dir(&clone)
-            .env("PATH", &path)
-            .output()
-            .expect("bash runs");
+        let out =
+            Command::new("bash").args(["-c", line]).current_dir(&clone).env("PATH", &path).output().expect("bash runs");
         assert!(
             out.status.success(),
             "README command failed ({}): {line}\n{}{}",
