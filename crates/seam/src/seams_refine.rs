@@ -6,7 +6,7 @@ use cadmorph_nurbs::{NurbsSurface, Side, Surface};
 use serde::Serialize;
 
 use crate::measure::side_uv;
-use crate::refine::{deformed, exact_normal, well_defined_normal};
+use crate::refine::{deformed, exact_normal, short_directions, well_defined_normal};
 use crate::{SharedBoundary, TrimEdge, SHARP_EDGE_DEG};
 
 /// Settings of [`refine_seams`].
@@ -111,9 +111,13 @@ impl Marks {
             m[k] = true;
         }
     }
-    fn at(&mut self, patch: usize, u_span: usize, v_span: usize) {
-        self.u[patch][u_span] = true;
-        self.v[patch][v_span] = true;
+    fn at(&mut self, patch: usize, u_span: usize, v_span: usize, (u, v): (bool, bool)) {
+        if u {
+            self.u[patch][u_span] = true;
+        }
+        if v {
+            self.v[patch][v_span] = true;
+        }
     }
     fn across(&mut self, patch: usize, side: Side) {
         match side {
@@ -254,10 +258,18 @@ pub fn refine_edges<D: Deformation + ?Sized>(
                             let dev = x.cross(&y).norm().atan2(x.dot(&y)).to_degrees();
                             dev_sum += dev;
                             if dev > opts.angle_tol_deg / 2.0 {
-                                // The normal depends on the tangent along the edge too.
-                                marks.across(patch, side);
-                                let t = if patch == a { ta } else { tb };
-                                marks.along(patch, side, span_of(along(patch, side), t));
+                                // The normal depends on the tangent along the edge too:
+                                // bisect the directions whose derivatives fall short.
+                                let (du, dv) = short_directions(&patches[patch], &moved[patch], d, u, v, h);
+                                let across_u = matches!(side, Side::UMin | Side::UMax);
+                                let (across, along_too) = if across_u { (du, dv) } else { (dv, du) };
+                                if across {
+                                    marks.across(patch, side);
+                                }
+                                if along_too {
+                                    let t = if patch == a { ta } else { tb };
+                                    marks.along(patch, side, span_of(along(patch, side), t));
+                                }
                             }
                         }
                     }
@@ -302,7 +314,14 @@ pub fn refine_edges<D: Deformation + ?Sized>(
                     gap += if err.is_nan() { f64::INFINITY } else { err };
                     angle += dev;
                     if err.is_nan() || err > opts.tol / 2.0 || dev > opts.angle_tol_deg / 2.0 {
-                        marks.at(patch, span_of(&ubreaks[patch], of.u), span_of(&vbreaks[patch], of.v));
+                        // A point off the exact morph needs both directions; a normal
+                        // alone, only the directions whose derivatives fall short.
+                        let dirs = if err.is_nan() || err > opts.tol / 2.0 {
+                            (true, true)
+                        } else {
+                            short_directions(&patches[patch], &moved[patch], d, of.u, of.v, h)
+                        };
+                        marks.at(patch, span_of(&ubreaks[patch], of.u), span_of(&vbreaks[patch], of.v), dirs);
                     }
                 }
                 max_gap = max_gap.max(gap);
