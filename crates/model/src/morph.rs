@@ -251,7 +251,14 @@ impl<D: CadDocument> Model<D> {
         progress.start("writing", 0);
         let tol = 1e-7 * self.size();
         let (faces_rewritten, unmoved) = self.write_faces(&refined, patches, d)?;
-        let curves_rewritten = self.write_curves(&unmoved, d, tol)?;
+        // Faces the repair changed besides the morph: their curves follow them even where
+        // the morph itself moves nothing.
+        let mut repaired = vec![false; self.faces.len()];
+        for e in &to_repair {
+            repaired[e.a.patch] = true;
+            repaired[e.b.patch] = true;
+        }
+        let curves_rewritten = self.write_curves(&unmoved, d, tol, &repaired)?;
         // The iso-boundary pairs stay the same sides while the domains do; the other
         // edges follow the curves as written.
         let now: Vec<_> = self.faces.iter().map(|p| p.surface.domain()).collect();
@@ -314,17 +321,24 @@ impl<D: CadDocument> Model<D> {
         Ok((written, unmoved))
     }
 
-    /// Traces every moved bound curve once on its first morphed face (from `unmoved`, the
-    /// face before the morph in the parameters it has now), then moves the free curves'
-    /// control points; returns how many curve entities were written. A traced curve
-    /// stays within `tol` of its face.
-    fn write_curves(&mut self, unmoved: &[NurbsSurface], d: &dyn Deformation, tol: f64) -> Result<usize> {
+    /// Traces every moved bound curve, and every curve of a face the seam repair changed
+    /// (`repaired`), once on its first morphed face (from `unmoved`, the face before the
+    /// morph in the parameters it has now), then moves the free curves' control points;
+    /// returns how many curve entities were written. A traced curve stays within `tol` of
+    /// its face.
+    fn write_curves(
+        &mut self,
+        unmoved: &[NurbsSurface],
+        d: &dyn Deformation,
+        tol: f64,
+        repaired: &[bool],
+    ) -> Result<usize> {
         let mut n = 0;
         let mut traced: HashSet<EntityRef> = HashSet::new();
         for k in 0..self.bounds.len() {
             let b = &self.bounds[k];
             let Some(target) = b.target else { continue };
-            if traced.contains(&target) || !moved_by(d, b.curve.control_points()) {
+            if traced.contains(&target) || (!moved_by(d, b.curve.control_points()) && !repaired[b.face]) {
                 continue;
             }
             traced.insert(target);
