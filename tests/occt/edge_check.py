@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """edge_check.py - OpenCASCADE's view of a written B-rep's edges and shape.
 
-Usage: edge_check.py FILE [--samples N] [--mesh DEFLECTION]
+Usage: edge_check.py FILE [--samples N]
 
 Prints one JSON object: read status, BRepCheck_Analyzer validity, topology counts
 (solids, shells, faces, edges; edges counted once however many faces use them), the
@@ -9,11 +9,7 @@ area (BRepGProp) and, over every edge that has a 3D curve, the largest distance 
 evenly spaced points of that curve to each face using the edge (GeomAPI_ProjectPointOnSurf
 onto the face's surface, and ShapeAnalysis_Surface's projection, the nearer kept):
 `edge_to_face_max`, with the worst edge's index, and the
-number of edges used by two different faces (`shared_edges`). With --mesh, every face's
-triangulation (BRepMesh_IncrementalMesh at that deflection, 0.1 rad) is added as
-`mesh`: per face, vertices (model space) and triangles (0-based), for a caller to map
-through its own exact morph; and `mesh_area`, the triangulation's own area, so the
-caller can correct for the discretisation.
+number of edges used by two different faces (`shared_edges`).
 """
 import json
 import os
@@ -28,7 +24,6 @@ def main(argv):
     ap = argparse.ArgumentParser(prog="edge_check.py")
     ap.add_argument("file")
     ap.add_argument("--samples", type=int, default=50)
-    ap.add_argument("--mesh", type=float, default=None)
     a = ap.parse_args(argv)
 
     from OCP.BRep import BRep_Tool
@@ -109,34 +104,6 @@ def main(argv):
     out["edge_to_face_worst_edge"] = worst_edge
     out["edge_to_face"] = per_edge
 
-    if a.mesh is not None:
-        from OCP.BRepMesh import BRepMesh_IncrementalMesh
-        from OCP.TopLoc import TopLoc_Location
-        BRepMesh_IncrementalMesh(shape, a.mesh, False, 0.1, True)
-        mesh, mesh_area = [], 0.0
-        ex = TopExp_Explorer(shape, TopAbs_FACE)
-        while ex.More():
-            face = TopoDS.Face_s(ex.Current())
-            loc = TopLoc_Location()
-            tri = BRep_Tool.Triangulation_s(face, loc)
-            verts, tris = [], []
-            if tri is not None:
-                trsf = loc.Transformation()
-                for n in range(1, tri.NbNodes() + 1):
-                    p = tri.Node(n).Transformed(trsf)
-                    verts.append([p.X(), p.Y(), p.Z()])
-                for n in range(1, tri.NbTriangles() + 1):
-                    i1, i2, i3 = tri.Triangle(n).Get()
-                    tris.append([i1 - 1, i2 - 1, i3 - 1])
-                    (ax, ay, az), (bx, by, bz), (cx, cy, cz) = verts[i1 - 1], verts[i2 - 1], verts[i3 - 1]
-                    ux, uy, uz = bx - ax, by - ay, bz - az
-                    vx, vy, vz = cx - ax, cy - ay, cz - az
-                    mesh_area += 0.5 * ((uy * vz - uz * vy) ** 2 + (uz * vx - ux * vz) ** 2
-                                        + (ux * vy - uy * vx) ** 2) ** 0.5
-            mesh.append({"vertices": verts, "triangles": tris})
-            ex.Next()
-        out["mesh"] = mesh
-        out["mesh_area"] = mesh_area
     print(json.dumps(out))
     return 0
 

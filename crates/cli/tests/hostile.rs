@@ -106,18 +106,8 @@ fn refinement_that_does_not_converge_fails_and_writes_nothing() {
     // budget below that stops the refinement before it converges.
     let s = Scratch::new("converge");
     let out = s.path("o.igs");
-    let o = cadmorph(&[
-        "morph",
-        HULL,
-        "--ffd",
-        BOW,
-        "-o",
-        &out,
-        "--refine-tol",
-        "1.45e-5",
-        "--max-control-points",
-        "590",
-    ]);
+    let o =
+        cadmorph(&["morph", HULL, "--ffd", BOW, "-o", &out, "--refine-tol", "1.45e-5", "--max-control-points", "590"]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     let e = stderr(&o);
     assert!(e.contains("did not converge") && e.contains("nothing written"), "{e}");
@@ -137,7 +127,8 @@ fn a_gap_the_input_already_had_is_reported_and_does_not_drive_refinement() {
         let o = cadmorph(&["morph", input, "--ffd", BOW, "-o", &out, "--refine-tol", "1.45e-5", "--json"]);
         assert_eq!(o.status.code(), Some(0), "{input}: {}", stderr(&o));
         let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-        let (before, after) = (r["control_points_before"].as_u64().unwrap(), r["control_points_after"].as_u64().unwrap());
+        let (before, after) =
+            (r["control_points_before"].as_u64().unwrap(), r["control_points_after"].as_u64().unwrap());
         assert!(after <= 2 * before, "{input}: {before} -> {after}");
         assert_eq!(r["refinement"]["converged"], true, "{input}");
         assert_eq!(r["refinement"]["input_defects"], 1, "{input}");

@@ -7,9 +7,7 @@ use std::path::Path;
 
 use cadmorph_brep::{BoundCurve, CadDocument, EntityRef, Face, Format, FreeCurve, ReadDocument, Skipped, Units};
 use cadmorph_nurbs::{NurbsCurve, NurbsSurface};
-use cadmorph_seam::{
-    measure_boundary, measure_edge, Face as SeamFace, SeamReport, SharedBoundary, TrimEdge,
-};
+use cadmorph_seam::{measure_boundary, measure_edge, Face as SeamFace, SeamReport, SharedBoundary, TrimEdge};
 use serde::Serialize;
 
 use crate::edges::{shared_edges, size_of};

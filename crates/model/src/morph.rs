@@ -7,8 +7,8 @@ use cadmorph_brep::{CadDocument, EntityRef, SurfaceKind};
 use cadmorph_morph::Deformation;
 use cadmorph_nurbs::{NurbsSurface, Surface};
 use cadmorph_seam::{
-    area_and_volume, covers_side, make_compatible, refine_edges, refine_uniform, repair, SeamRefineOptions,
-    SharedBoundary, SeamCheck, SeamRefinement, SeamReport,
+    area_and_volume, covers_side, make_compatible, refine_edges, refine_uniform, repair, SeamCheck, SeamRefineOptions,
+    SeamRefinement, SeamReport, SharedBoundary,
 };
 use serde::Serialize;
 

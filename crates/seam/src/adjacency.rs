@@ -132,12 +132,7 @@ pub fn shared_boundaries(
 /// through the middle), so a closing seam opened by a defect larger than `tol` is still
 /// seen as one, while a narrow strip's two long sides never pair. Collapsed sides
 /// (poles) never pair.
-pub fn closing_seams(
-    patches: &[&NurbsSurface],
-    tol: f64,
-    samples: usize,
-    min_fraction: f64,
-) -> Vec<SharedBoundary> {
+pub fn closing_seams(patches: &[&NurbsSurface], tol: f64, samples: usize, min_fraction: f64) -> Vec<SharedBoundary> {
     let mut out = Vec::new();
     for (patch, s) in patches.iter().enumerate() {
         let (ud, vd) = s.domain();

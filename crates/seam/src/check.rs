@@ -91,7 +91,8 @@ impl SeamCheck {
                 let matched_before = b.map_or(0.0, |b| b.gap_matched.max);
                 let angle_before_deg = b.map_or(0.0, |b| b.g1_angle_unoriented_deg.max);
                 let sharp = b.map_or(e.sharp, |b| b.sharp);
-                let input_defect = gap_before > tol || matched_before > tol || (!sharp && angle_before_deg > angle_tol_deg);
+                let input_defect =
+                    gap_before > tol || matched_before > tol || (!sharp && angle_before_deg > angle_tol_deg);
                 let within = |after: f64, before: f64| after.is_finite() && after <= before.max(0.0) + tol;
                 let angle_after_deg = e.g1_angle_unoriented_deg.max;
                 let pass = within(e.gap_closest.max, gap_before)
@@ -131,7 +132,14 @@ impl SeamCheck {
                 None => s.patch.to_string(),
             };
             let label = e.edge.iter().map(ToString::to_string).collect::<Vec<_>>().join(" / ");
-            format!("edge {} ({} - {}{}{})", c.after, side(&e.a), side(&e.b), if label.is_empty() { "" } else { ", " }, label)
+            format!(
+                "edge {} ({} - {}{}{})",
+                c.after,
+                side(&e.a),
+                side(&e.b),
+                if label.is_empty() { "" } else { ", " },
+                label
+            )
         };
         let mut out = String::new();
         for c in self.edges.iter().filter(|c| c.input_defect) {

@@ -182,11 +182,7 @@ pub fn refine_edges<D: Deformation + ?Sized>(
     let mut rounds = 0;
     // What each iso edge had before the morph (knots do not change the geometry).
     let input: Vec<(f64, f64)> = edges.iter().map(|e| input_state(patches, e, 201)).collect();
-    let input_defects = edges
-        .iter()
-        .zip(&input)
-        .filter(|(_, (g, a))| *g > opts.tol || *a > opts.angle_tol_deg)
-        .count();
+    let input_defects = edges.iter().zip(&input).filter(|(_, (g, a))| *g > opts.tol || *a > opts.angle_tol_deg).count();
     // Creases: edges whose sides meet at more than SHARP_EDGE_DEG somewhere (the angle
     // may fall along the edge, as where a loft's side faces meet its cap); refinement
     // keeps their angle as the morph makes it, not at zero. Knots do not change the

@@ -90,11 +90,7 @@ impl Document {
             cursor = inst.end;
             if orphans.contains(&k) {
                 let rest = &self.source[cursor..];
-                cursor += if rest.starts_with(b"\r\n") {
-                    2
-                } else {
-                    usize::from(rest.starts_with(b"\n"))
-                };
+                cursor += if rest.starts_with(b"\r\n") { 2 } else { usize::from(rest.starts_with(b"\n")) };
             } else {
                 w.write_all(self.texts[&k].as_bytes())?;
             }
