@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use cadmorph::model::{MorphOptions, Staged};
-use cadmorph::seam::SeamRefineOptions;
+use cadmorph::seam::{SeamCheck, SeamRefineOptions};
 use cadmorph::Format;
 
 use crate::progress::Bar;
@@ -48,9 +48,17 @@ pub struct Args {
     /// Refine so that the seams stay within this gap (model units) after the morph.
     #[arg(long, value_parser = crate::limits::positive)]
     refine_tol: Option<f64>,
-    /// With --refine-tol: the largest normal angle across a seam, degrees.
-    #[arg(long, default_value_t = 0.01, requires = "refine_tol", value_parser = crate::limits::positive)]
+    /// The largest normal angle across a smooth seam, degrees, beyond the angle it had in
+    /// the input: what --refine-tol refines for and what --tol checks.
+    #[arg(long, default_value_t = 0.01, value_parser = crate::limits::positive)]
     angle_tol: f64,
+    /// Check the written file's seams against the input's: exit 1, writing nothing, when
+    /// an edge's gap grows by more than this (model units) over the gap it had before the
+    /// morph, or a smooth edge's normal angle by more than --angle-tol. Defects the input
+    /// already had are reported as such. Default with --refine-tol: the refinement's
+    /// tolerance.
+    #[arg(long, value_parser = crate::limits::positive)]
+    tol: Option<f64>,
     /// With --refine-tol: stop refining (and fail) before the faces would hold more than
     /// this many control points in all. Default: 20 times the input's.
     #[arg(long, requires = "refine_tol")]
@@ -113,13 +121,14 @@ pub fn run(a: Args) -> Result<()> {
     if let (Some(r), Some(o)) = (&outcome.refinement, &opts.refine) {
         if !r.converged {
             bail!(
-                "seam refinement did not converge: after {} rounds the largest gap is {:.3e} {} (asked {:.3e}) and \
-                 the largest angle {:.4} deg (asked {}), with {} control points (from {}, limit {}); nothing written",
+                "seam refinement did not converge: after {} rounds the largest gap grows by {:.3e} {} over the \
+                 input's (asked {:.3e}) and the largest angle by {:.4} deg (asked {}), with {} control points \
+                 (from {}, limit {}); nothing written",
                 r.rounds,
-                r.max_gap,
+                r.max_gap_growth,
                 m.unit(),
                 o.tol,
-                r.max_angle_deg,
+                r.max_angle_growth_deg,
                 o.angle_tol_deg,
                 r.control_points_after,
                 r.control_points_before,
@@ -132,8 +141,25 @@ pub fn run(a: Args) -> Result<()> {
     let format = Format::from_extension(&a.output).expect("checked above");
     let bytes = if format == m.format() { m.to_bytes() } else { cadmorph::convert(&m, format)?.to_bytes() };
     let elapsed = start.elapsed().as_secs_f64();
-    // The "after" report describes the written document, read back.
-    outcome.seams_after = m.verify()?.seams;
+    // The "after" report is the written file's, found and measured as `seams` would.
+    if format != m.format() {
+        outcome.seams_after = cadmorph::from_bytes(&bytes)?.seams(200);
+    }
+    if let Some(tol) = a.tol.or(a.refine_tol) {
+        let check = SeamCheck::new(&outcome.seams_before, &outcome.seams_after, tol, a.angle_tol);
+        let failed = check.failed;
+        let summary = check.summary(&outcome.seams_after);
+        outcome.check = Some(check);
+        if failed > 0 {
+            bail!(
+                "{summary}{failed} of {} edges of the morphed model fail the seam check (gap + {tol:e} {}, angle + {} deg over \
+                 the input's); nothing written",
+                outcome.seams_after.edges.len(),
+                m.unit(),
+                a.angle_tol
+            );
+        }
+    }
     let report = match &a.report {
         Some(r) => Some(Staged::new(r, serde_json::to_string_pretty(&outcome)?.as_bytes())?),
         None => None,
@@ -162,11 +188,15 @@ pub fn run(a: Args) -> Result<()> {
     );
     if let Some(r) = &outcome.refinement {
         println!(
-            "seam refinement: {} rounds, {}; max gap {:.3e}, max angle {:.4} deg",
+            "seam refinement: {} rounds, {}; max gap {:.3e} (growth over the input {:.3e}), max angle {:.4} deg \
+             (growth {:.4} deg); {} edges with a pre-existing defect carried, not refined",
             r.rounds,
             if r.converged { "converged" } else { "NOT converged" },
             r.max_gap,
-            r.max_angle_deg
+            r.max_gap_growth,
+            r.max_angle_deg,
+            r.max_angle_growth_deg,
+            r.input_defects
         );
     }
     let info = m.info();
@@ -177,5 +207,16 @@ pub fn run(a: Args) -> Result<()> {
     println!("seams after, read back from the written document:");
     print!("{}", crate::seam_report::table(&outcome.seams_after, m.patches(), &unit, &none));
     print!("{}", crate::seam_report::legend(&unit, &none));
+    if let Some(c) = &outcome.check {
+        print!("{}", c.summary(&outcome.seams_after));
+        println!(
+            "seam check against the input: {} edges, {} failed, {} with a pre-existing defect (gap + {:e}, angle + {} deg)",
+            c.edges.len(),
+            c.failed,
+            c.input_defects,
+            c.tol,
+            c.angle_tol_deg
+        );
+    }
     Ok(())
 }

@@ -102,16 +102,63 @@ fn bad_tolerances_are_refused() {
 
 #[test]
 fn refinement_that_does_not_converge_fails_and_writes_nothing() {
-    // The defect hull's 33 mm gap was there before the morph: knot insertion cannot close
-    // it, and the control-point budget (20x the input) stops the refinement.
+    // The hull's bow dome needs some knots at 1.45e-5 (576 -> 600 control points); a
+    // budget below that stops the refinement before it converges.
     let s = Scratch::new("converge");
     let out = s.path("o.igs");
-    let o = cadmorph(&["morph", "samples/hull3_defect.igs", "--ffd", BOW, "-o", &out, "--refine-tol", "1.45e-5"]);
+    let o =
+        cadmorph(&["morph", HULL, "--ffd", BOW, "-o", &out, "--refine-tol", "1.45e-5", "--max-control-points", "590"]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     let e = stderr(&o);
     assert!(e.contains("did not converge") && e.contains("nothing written"), "{e}");
     assert!(!Path::new(&out).exists());
     assert!(s.temporaries().is_empty());
+}
+
+#[test]
+fn a_gap_the_input_already_had_is_reported_and_does_not_drive_refinement() {
+    // The defect hull's 33 mm matched gap (2.44 mm closest) was there before the morph:
+    // each edge is held to its own input gap + tol, so refinement converges with no
+    // more than twice the input's control points, and the defect is named with the hint.
+    let s = Scratch::new("defect");
+    for input in ["samples/hull3_defect.igs", "samples/hull3_defect.stp"] {
+        let ext = &input[input.len() - 3..];
+        let out = s.path(&format!("o.{ext}"));
+        let o = cadmorph(&["morph", input, "--ffd", BOW, "-o", &out, "--refine-tol", "1.45e-5", "--json"]);
+        assert_eq!(o.status.code(), Some(0), "{input}: {}", stderr(&o));
+        let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let (before, after) =
+            (r["control_points_before"].as_u64().unwrap(), r["control_points_after"].as_u64().unwrap());
+        assert!(after <= 2 * before, "{input}: {before} -> {after}");
+        assert_eq!(r["refinement"]["converged"], true, "{input}");
+        assert_eq!(r["refinement"]["input_defects"], 1, "{input}");
+        let check = &r["check"];
+        assert_eq!(check["failed"], 0, "{input}");
+        assert_eq!(check["input_defects"], 1, "{input}");
+        let defect = check["edges"].as_array().unwrap().iter().find(|e| e["input_defect"] == true).unwrap();
+        assert!((defect["gap_before"].as_f64().unwrap() - 2.444e-3).abs() < 1e-5, "{input}: {defect}");
+        assert!((defect["matched_before"].as_f64().unwrap() - 3.272e-2).abs() < 1e-5, "{input}: {defect}");
+        // Text mode names the defect and the hint.
+        let o = cadmorph(&["morph", input, "--ffd", BOW, "-o", &out, "--refine-tol", "1.45e-5"]);
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert!(text.contains("pre-existing defect") && text.contains("--repair"), "{text}");
+        // With --repair the defect edge closes to 1e-12 of its length.
+        let o = cadmorph(&["morph", input, "--ffd", BOW, "-o", &out, "--refine-tol", "1.45e-5", "--repair", "--json"]);
+        assert_eq!(o.status.code(), Some(0), "{input}: {}", stderr(&o));
+        let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        for e in r["seams_after"]["edges"].as_array().unwrap() {
+            let len = e["length"].as_f64().unwrap();
+            assert!(e["gap_matched"]["max"].as_f64().unwrap() <= 1e-12 * len, "{input}: {e}");
+        }
+        assert_eq!(r["repair"]["edges_repaired"], 2, "{input}");
+    }
+    // Unrefined, the bow dome turns the clean hull's seams by 0.012 deg: checked at the
+    // default 0.01 deg, the morph fails, writing nothing (the check can fail).
+    let out = s.path("strict.igs");
+    let o = cadmorph(&["morph", HULL, "--ffd", BOW, "-o", &out, "--tol", "1.45e-5"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("fail the seam check") && stderr(&o).contains("nothing written"), "{}", stderr(&o));
+    assert!(!Path::new(&out).exists());
 }
 
 #[test]

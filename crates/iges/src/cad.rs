@@ -83,6 +83,33 @@ impl Document {
     }
 }
 
+impl Document {
+    /// Moves vertex `k` (1-based) of 502 list `list` to where `c` has the end of `b`'s
+    /// range that the vertex was at on `b.curve` (within `1e-9` of the curve's size; the
+    /// same fraction of `c`'s domain as of the old curve's); a vertex at neither end
+    /// stays. Returns whether it moved.
+    fn move_vertex_with(&mut self, list: EntityId, k: i64, b: &BoundCurve, c: &NurbsCurve) -> crate::Result<bool> {
+        let Some(old) = self.vertex(&mut HashMap::new(), list, k) else { return Ok(false) };
+        let ends = [b.range.0, b.range.1];
+        let size = b.curve.control_points().iter().map(|p| p.coords.norm()).fold(1.0, f64::max);
+        let Some(&t) = ends.iter().find(|&&t| (b.curve.eval(t) - old).norm() <= 1e-9 * size) else {
+            return Ok(false);
+        };
+        // The new curve runs the way the old one did over its own domain (a traced iso
+        // line takes the face's parameter): the same fraction of the domain.
+        let (d0, d1) = (b.curve.domain(), c.domain());
+        let f = (t - d0.start()) / (d0.end() - d0.start());
+        let new = c.eval(d1.start() + f * (d1.end() - d1.start()));
+        let mut values = self.entity(list)?.values();
+        let at = usize::try_from(k).ok().and_then(|k| k.checked_sub(1)).map(|k| 2 + 3 * k);
+        let Some(at) = at.filter(|&at| at + 3 <= values.len()) else { return Ok(false) };
+        for (i, x) in new.coords.iter().enumerate() {
+            values[at + i] = crate::document::Value::Real(*x);
+        }
+        self.set_values(list, values, None)
+    }
+}
+
 impl CadDocument for Document {
     fn format(&self) -> Format {
         Format::Iges
@@ -242,7 +269,16 @@ impl CadDocument for Document {
 
     fn set_bound_curve(&mut self, b: &BoundCurve, c: &NurbsCurve) -> cadmorph_brep::Result<bool> {
         let Some(target) = b.target else { return Ok(false) };
-        self.set_bspline_curve(de(target)?, c).map_err(err)
+        let written = self.set_bspline_curve(de(target)?, c).map_err(err)?;
+        // A 504 edge's vertices (502 lists) follow its new curve, as STEP's do.
+        if let Some(list) = b.edge {
+            if let Some(e) = self.list_edge(de(list)?, i64::from(b.edge_index)) {
+                for (vl, k) in [e.start, e.end] {
+                    self.move_vertex_with(vl, k, b, c).map_err(err)?;
+                }
+            }
+        }
+        Ok(written)
     }
 
     fn set_free_curve(&mut self, f: &FreeCurve, c: &NurbsCurve) -> cadmorph_brep::Result<bool> {

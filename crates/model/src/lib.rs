@@ -48,5 +48,5 @@ mod trace;
 pub use cadmorph_brep::{CadDocument, EntityRef, Face, Format, ReadDocument, Skipped, Units};
 pub use error::{Error, Result};
 pub use model::{Info, Model, Patch, PatchInfo, Progress, Silent, Verification};
-pub use morph::{MorphOptions, MorphOutcome};
+pub use morph::{MorphOptions, MorphOutcome, RepairOutcome};
 pub use output::{write_atomic, Staged};

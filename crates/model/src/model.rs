@@ -3,15 +3,11 @@
 
 use crate::output::write_atomic;
 use std::collections::BTreeMap;
-use std::ops::RangeInclusive;
 use std::path::Path;
 
 use cadmorph_brep::{BoundCurve, CadDocument, EntityRef, Face, Format, FreeCurve, ReadDocument, Skipped, Units};
-use cadmorph_nurbs::{NurbsCurve, NurbsSurface, Surface};
-use cadmorph_seam::{
-    measure_boundary, measure_edge, measure_edge_samples, EdgeSamples, Face as SeamFace, SeamReport, SharedBoundary,
-    TrimEdge,
-};
+use cadmorph_nurbs::{NurbsCurve, NurbsSurface};
+use cadmorph_seam::{measure_boundary, measure_edge, Face as SeamFace, SeamReport, SharedBoundary, TrimEdge};
 use serde::Serialize;
 
 use crate::edges::{shared_edges, size_of};
@@ -44,12 +40,7 @@ pub struct Model<D: CadDocument = Box<dyn CadDocument>> {
     pub(crate) iso: Vec<SharedBoundary>,
     /// Edges from the file's topology or trims that are not among `iso`.
     pub(crate) trims: Vec<TrimEdge>,
-    /// Where the last morph measured its trim edges (face parameters) and the patch
-    /// domains then, so that [`verify`](Self::verify) measures the same surface points.
-    pub(crate) after_samples: Option<(Vec<EdgeSamples>, Vec<Domain>)>,
 }
-
-pub(crate) type Domain = (RangeInclusive<f64>, RangeInclusive<f64>);
 
 /// Progress of long model work (seam measurement, refinement, moving control points,
 /// writing), for a progress bar. Both methods default to doing nothing.
@@ -115,8 +106,8 @@ pub struct Info {
 /// What [`Model::verify`] found in the written document, read back.
 #[derive(Debug, Clone, Serialize)]
 pub struct Verification {
-    /// Seams of the document as read back (at the last morph's edge samples when the
-    /// faces kept their parameter domains, else found again).
+    /// Seams of the document as read back, found and measured as `cadmorph seams` finds
+    /// and measures them in the written file (its edges, its edge curves, 200 samples).
     pub seams: SeamReport,
     /// Largest distance between a B-spline face's control point in memory and the one
     /// read back (the file's number format; 0 for STEP's round-trip reals).
@@ -162,7 +153,7 @@ impl<D: CadDocument> Model<D> {
         let bounds = doc.bound_curves(&set.faces)?;
         let free = doc.free_curves()?;
         let (iso, trims) = shared_edges(&set.faces, &bounds);
-        Ok(Self { doc, faces: set.faces, skipped: set.skipped, units, bounds, free, iso, trims, after_samples: None })
+        Ok(Self { doc, faces: set.faces, skipped: set.skipped, units, bounds, free, iso, trims })
     }
 
     /// The document (as edited so far).
@@ -257,21 +248,6 @@ impl<D: CadDocument> Model<D> {
 
     pub(crate) fn seam_faces(&self) -> Vec<SeamFace<'_>> {
         self.faces.iter().map(|p| SeamFace { surface: &p.surface, reversed: p.reversed }).collect()
-    }
-
-    /// The seams at the trim edges' face parameters `samples` (taken before a morph),
-    /// when the faces still have the parameter `domains` they had then; otherwise the
-    /// edges found again.
-    pub(crate) fn seams_at(&self, samples: &[EdgeSamples], domains: &[Domain], progress: &dyn Progress) -> SeamReport {
-        let now: Vec<_> = self.faces.iter().map(|p| p.surface.domain()).collect();
-        if now != domains {
-            return self.seams_with_progress(200, progress);
-        }
-        progress.start("measuring seams", (self.iso.len() + samples.len()) as u64);
-        let faces = self.seam_faces();
-        let iso = self.iso.iter().map(|e| measure_boundary(&faces, e, 200));
-        let trims = samples.iter().map(|s| measure_edge_samples(&faces, s));
-        SeamReport::new(iso.chain(trims).inspect(|_| progress.step(1)).collect())
     }
 
     /// Measures every shared edge, iso-boundary and trim edges, with `samples` points.
@@ -384,9 +360,8 @@ impl<D: CadDocument> Model<D> {
     }
 
     /// Reads what was written back into a new document of the same format and measures
-    /// it: the seams (at the last morph's edge samples when the faces kept their
-    /// parameter domains) and the largest control-point difference to the patches in
-    /// memory.
+    /// it: the seams, exactly as `cadmorph seams` finds them in the written file, and the
+    /// largest control-point difference to the patches in memory.
     ///
     /// # Errors
     ///
@@ -419,18 +394,7 @@ impl<D: CadDocument> Model<D> {
                 max_deviation = max_deviation.max((p - q).norm());
             }
         }
-        let domains: Vec<Domain> = back_faces.iter().map(|f| f.surface.domain()).collect();
-        let seams = match &self.after_samples {
-            // The same surface points as the morph measured, on the faces read back.
-            Some((samples, then)) if *then == domains => {
-                let faces: Vec<SeamFace<'_>> =
-                    back_faces.iter().map(|p| SeamFace { surface: &p.surface, reversed: p.reversed }).collect();
-                let iso = self.iso.iter().map(|e| measure_boundary(&faces, e, 200));
-                let trims = samples.iter().map(|s| measure_edge_samples(&faces, s));
-                SeamReport::new(iso.chain(trims).collect())
-            }
-            _ => Model::new(back_doc)?.seams(200),
-        };
+        let seams = Model::new(back_doc)?.seams(200);
         Ok(Verification { seams, max_deviation })
     }
 }

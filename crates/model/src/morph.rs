@@ -7,7 +7,8 @@ use cadmorph_brep::{CadDocument, EntityRef, SurfaceKind};
 use cadmorph_morph::Deformation;
 use cadmorph_nurbs::{NurbsSurface, Surface};
 use cadmorph_seam::{
-    make_compatible, refine_edges, refine_uniform, repair, EdgeSamples, SeamRefineOptions, SeamRefinement, SeamReport,
+    area_and_volume, covers_side, make_compatible, refine_edges, refine_uniform, repair, SeamCheck, SeamRefineOptions,
+    SeamRefinement, SeamReport, SharedBoundary,
 };
 use serde::Serialize;
 
@@ -22,10 +23,43 @@ pub struct MorphOptions {
     pub refine: Option<SeamRefineOptions>,
     /// PyGeM-style refinement: this many evenly spaced knots per direction on every patch.
     pub uniform_knots: Option<usize>,
-    /// Make knots compatible across shared edges before the morph and make the two
-    /// sides of every shared edge identical after it (exact C0, and G1 for
-    /// non-rational patches).
+    /// Repair the smooth shared iso edges between B-spline faces (see
+    /// [`RepairOutcome`]): knots made compatible across them before the morph, both
+    /// sides made identical after it (exact C0, and G1 for non-rational patches).
+    /// Sharp edges (creases by design) and edges of analytic faces are left as the
+    /// morph makes them.
     pub repair: bool,
+}
+
+/// What seam repair did ([`MorphOptions::repair`]).
+///
+/// An edge is repaired when it is a shared iso boundary of two B-spline faces (their
+/// boundaries are the edge), covers both sides completely, and was smooth in the input
+/// (normal angle at most [`SHARP_EDGE_DEG`](cadmorph_seam::SHARP_EDGE_DEG), so a
+/// pre-existing gap with a small kink is repaired, a crease never). The others keep
+/// what the morph makes of them: their angle, their faces, the solid's topology.
+#[derive(Debug, Clone, Serialize)]
+pub struct RepairOutcome {
+    /// Shared iso edges repaired.
+    pub edges_repaired: usize,
+    /// Shared iso edges left alone because they are sharp in the input.
+    pub sharp_kept: usize,
+    /// Shared iso edges left alone because a side is an analytic face (its patch is
+    /// not its boundary) or the edge covers a side only in part.
+    pub other_kept: usize,
+    /// Largest distance a boundary control point moved to meet its partner.
+    pub max_move: f64,
+    /// Total area of the repaired faces' patches (untrimmed) after the morph, before
+    /// the repair.
+    pub area_before: f64,
+    /// The same after the repair.
+    pub area_after: f64,
+    /// Sum of the repaired patches' volume shares (`(1/3) ∬ S · n dA`, see
+    /// [`area_and_volume`]) before the repair: its change is the enclosed volume's
+    /// change when the faces bound a closed shell.
+    pub volume_share_before: f64,
+    /// The same after the repair.
+    pub volume_share_after: f64,
 }
 
 /// What [`Model::morph`] did, counted from what was written.
@@ -41,11 +75,16 @@ pub struct MorphOutcome {
     pub curves_rewritten: usize,
     /// The seam refinement's report, when it ran.
     pub refinement: Option<SeamRefinement>,
+    /// The seam repair's report, when it ran.
+    pub repair: Option<RepairOutcome>,
     /// Seams before the morph.
     pub seams_before: SeamReport,
-    /// Seams after the morph, of the patches as written (see [`Model::verify`] for the
-    /// file read back).
+    /// Seams after the morph: the written document read back, its edges found and
+    /// measured as `cadmorph seams` finds and measures them in the file.
     pub seams_after: SeamReport,
+    /// The "after" seams checked against the "before" ones, when a caller asked for it
+    /// (the CLI's `--tol`); [`Model::morph`] leaves it `None`.
+    pub check: Option<SeamCheck>,
 }
 
 fn count(faces: &[cadmorph_brep::Face]) -> usize {
@@ -118,16 +157,36 @@ impl<D: CadDocument> Model<D> {
     ) -> Result<MorphOutcome> {
         let edges = self.iso.clone();
         let seams_before = self.seams_with_progress(200, progress);
-        // Where the trim edges lie on their faces, in the faces' parameters: the seams
-        // after the morph are measured there, between the faces' own trimmed boundaries.
-        let faces = self.seam_faces();
-        let trim_samples: Vec<EdgeSamples> = self.trims.iter().map(|e| e.samples(&faces, 200)).collect();
         let domains: Vec<_> = self.faces.iter().map(|p| p.surface.domain()).collect();
         let before = count(&self.faces);
         let mut patches: Vec<NurbsSurface> = self.faces.iter().map(|p| p.surface.clone()).collect();
-        if opts.repair {
-            make_compatible(&mut patches, &edges)?;
-        }
+        // The edges repair may touch: smooth shared iso edges of two B-spline faces that
+        // cover both sides (seams_before lists the iso edges first, in the same order).
+        let (mut sharp_kept, mut other_kept) = (0, 0);
+        let to_repair: Vec<SharedBoundary> = if opts.repair {
+            edges
+                .iter()
+                .zip(&seams_before.edges)
+                .filter(|(e, r)| {
+                    let analytic = self.faces[e.a.patch].kind.is_analytic() || self.faces[e.b.patch].kind.is_analytic();
+                    let whole = covers_side(&patches[e.a.patch], e.a.side, e.a_range)
+                        && covers_side(&patches[e.b.patch], e.b.side, e.b_range);
+                    if r.sharp {
+                        sharp_kept += 1;
+                        false
+                    } else if analytic || !whole || e.a.patch == e.b.patch {
+                        other_kept += 1;
+                        false
+                    } else {
+                        true
+                    }
+                })
+                .map(|(e, _)| *e)
+                .collect()
+        } else {
+            Vec::new()
+        };
+        make_compatible(&mut patches, &to_repair)?;
         if let Some(n) = opts.uniform_knots {
             for s in &mut patches {
                 refine_uniform(s, n)?;
@@ -156,25 +215,50 @@ impl<D: CadDocument> Model<D> {
             }
             progress.step(1);
         }
-        if opts.repair {
-            for e in &edges {
-                if e.a.patch == e.b.patch {
-                    continue;
-                }
+        let repair_outcome = if opts.repair {
+            let touched: Vec<usize> = {
+                let mut t: Vec<usize> = to_repair.iter().flat_map(|e| [e.a.patch, e.b.patch]).collect();
+                t.sort_unstable();
+                t.dedup();
+                t
+            };
+            let sums = |p: &[NurbsSurface]| {
+                touched.iter().map(|&i| area_and_volume(&p[i])).fold((0.0, 0.0), |s, x| (s.0 + x.0, s.1 + x.1))
+            };
+            let (area_before, volume_share_before) = sums(&patches);
+            let mut max_move: f64 = 0.0;
+            for e in &to_repair {
                 let (lo, hi) = (e.a.patch.min(e.b.patch), e.a.patch.max(e.b.patch));
                 let (left, right) = patches.split_at_mut(hi);
                 let (x, y) = (&mut left[lo], &mut right[0]);
                 let (a, b) = if e.a.patch == lo { (x, y) } else { (y, x) };
-                match repair(a, b, e, true) {
-                    Ok(_) | Err(cadmorph_seam::Error::PartialEdge { .. }) => {}
-                    Err(other) => return Err(other.into()),
-                }
+                max_move = max_move.max(repair(a, b, e, true)?.max_move);
             }
-        }
+            let (area_after, volume_share_after) = sums(&patches);
+            Some(RepairOutcome {
+                edges_repaired: to_repair.len(),
+                sharp_kept,
+                other_kept,
+                max_move,
+                area_before,
+                area_after,
+                volume_share_before,
+                volume_share_after,
+            })
+        } else {
+            None
+        };
         progress.start("writing", 0);
         let tol = 1e-7 * self.size();
         let (faces_rewritten, unmoved) = self.write_faces(&refined, patches, d)?;
-        let curves_rewritten = self.write_curves(&unmoved, d, tol)?;
+        // Faces the repair changed besides the morph: their curves follow them even where
+        // the morph itself moves nothing.
+        let mut repaired = vec![false; self.faces.len()];
+        for e in &to_repair {
+            repaired[e.a.patch] = true;
+            repaired[e.b.patch] = true;
+        }
+        let curves_rewritten = self.write_curves(&unmoved, d, tol, &repaired)?;
         // The iso-boundary pairs stay the same sides while the domains do; the other
         // edges follow the curves as written.
         let now: Vec<_> = self.faces.iter().map(|p| p.surface.domain()).collect();
@@ -183,16 +267,18 @@ impl<D: CadDocument> Model<D> {
         } else {
             self.rebuild_edges();
         }
-        let seams_after = self.seams_at(&trim_samples, &domains, progress);
-        self.after_samples = Some((trim_samples, domains));
+        // The document as written, read back and measured as `cadmorph seams` would.
+        let seams_after = Model::new(self.doc.read_back()?)?.seams_with_progress(200, progress);
         Ok(MorphOutcome {
             control_points_before: before,
             control_points_after: count(&self.faces),
             faces_rewritten,
             curves_rewritten,
             refinement,
+            repair: repair_outcome,
             seams_before,
             seams_after,
+            check: None,
         })
     }
 
@@ -235,17 +321,24 @@ impl<D: CadDocument> Model<D> {
         Ok((written, unmoved))
     }
 
-    /// Traces every moved bound curve once on its first morphed face (from `unmoved`, the
-    /// face before the morph in the parameters it has now), then moves the free curves'
-    /// control points; returns how many curve entities were written. A traced curve
-    /// stays within `tol` of its face.
-    fn write_curves(&mut self, unmoved: &[NurbsSurface], d: &dyn Deformation, tol: f64) -> Result<usize> {
+    /// Traces every moved bound curve, and every curve of a face the seam repair changed
+    /// (`repaired`), once on its first morphed face (from `unmoved`, the face before the
+    /// morph in the parameters it has now), then moves the free curves' control points;
+    /// returns how many curve entities were written. A traced curve stays within `tol` of
+    /// its face.
+    fn write_curves(
+        &mut self,
+        unmoved: &[NurbsSurface],
+        d: &dyn Deformation,
+        tol: f64,
+        repaired: &[bool],
+    ) -> Result<usize> {
         let mut n = 0;
         let mut traced: HashSet<EntityRef> = HashSet::new();
         for k in 0..self.bounds.len() {
             let b = &self.bounds[k];
             let Some(target) = b.target else { continue };
-            if traced.contains(&target) || !moved_by(d, b.curve.control_points()) {
+            if traced.contains(&target) || (!moved_by(d, b.curve.control_points()) && !repaired[b.face]) {
                 continue;
             }
             traced.insert(target);

@@ -2,7 +2,7 @@
 //! carry no topology (bare IGES 128 surfaces).
 
 use cadmorph_nurbs::math::Point3;
-use cadmorph_nurbs::{Aabb, Curve, CurveProject, NurbsCurve, NurbsSurface, Side};
+use cadmorph_nurbs::{Aabb, Curve, CurveProject, NurbsCurve, NurbsSurface, Side, Surface};
 use serde::Serialize;
 
 /// One side of one patch: `patch` indexes the caller's patch list.
@@ -65,7 +65,9 @@ fn polyline_length(c: &NurbsCurve, n: usize) -> f64 {
 }
 
 /// Finds every pair of iso-boundaries of `patches` that lie on each other within `tol`
-/// (model units) over at least `min_fraction` of the shorter one's length.
+/// (model units) over at least `min_fraction` of the shorter one's length, and the
+/// closing seam of every face closed in u or v (an edge of a patch with itself,
+/// `a.patch == b.patch`; see [`closing_seams`]).
 ///
 /// Each boundary is sampled at `samples` points; a sample counts as lying on the other
 /// boundary when its projection onto that boundary curve is within `tol`. The overlap is
@@ -109,12 +111,44 @@ pub fn shared_boundaries(
             let Some((short_range, long_range)) = overlap(&short.curve, &long.curve, tol, samples, min_fraction) else {
                 continue;
             };
+            // `a` (the lower index) stays the first side either way, so that an edge keeps
+            // its orientation when a morph changes which side is longer.
             let shared = if swapped {
-                orient(b.side, a.side, long_range, short_range)
+                orient(a.side, b.side, long_range, short_range)
             } else {
                 orient(a.side, b.side, short_range, long_range)
             };
             out.push(shared);
+        }
+    }
+    out.extend(closing_seams(patches, tol, samples, min_fraction));
+    out
+}
+
+/// The closing seams of faces closed in u or v (a blade's section loop, a full
+/// cylinder): the two opposite sides of one patch that lie on each other, as an edge
+/// of the patch with itself. Sides lie on each other within `max(tol, 1e-2 × the
+/// distance across the face)` (the length of the iso line from one side to the other
+/// through the middle), so a closing seam opened by a defect larger than `tol` is still
+/// seen as one, while a narrow strip's two long sides never pair. Collapsed sides
+/// (poles) never pair.
+pub fn closing_seams(patches: &[&NurbsSurface], tol: f64, samples: usize, min_fraction: f64) -> Vec<SharedBoundary> {
+    let mut out = Vec::new();
+    for (patch, s) in patches.iter().enumerate() {
+        let (ud, vd) = s.domain();
+        for (lo, hi) in [(Side::UMin, Side::UMax), (Side::VMin, Side::VMax)] {
+            let (a, b) = (s.boundary(lo), s.boundary(hi));
+            if polyline_length(&a, 64) <= tol || polyline_length(&b, 64) <= tol {
+                continue;
+            }
+            let across = if lo == Side::UMin {
+                s.v_iso((vd.start() + vd.end()) / 2.0)
+            } else {
+                s.u_iso((ud.start() + ud.end()) / 2.0)
+            };
+            let close = tol.max(1e-2 * polyline_length(&across, 256));
+            let Some((ra, rb)) = overlap(&a, &b, close, samples, min_fraction) else { continue };
+            out.push(orient(SideRef { patch, side: lo }, SideRef { patch, side: hi }, ra, rb));
         }
     }
     out

@@ -27,6 +27,8 @@
 //! ```
 
 mod adjacency;
+mod area;
+mod check;
 mod edge;
 mod error;
 mod measure;
@@ -34,10 +36,12 @@ mod refine;
 mod repair;
 mod seams_refine;
 
-pub use adjacency::{shared_boundaries, SharedBoundary, SideRef};
+pub use adjacency::{closing_seams, shared_boundaries, SharedBoundary, SideRef};
+pub use area::area_and_volume;
+pub use check::{EdgeCheck, SeamCheck};
 pub use edge::{measure_edge, measure_edge_samples, shared_curves, EdgeSample, EdgeSamples, TrimCurve, TrimEdge};
 pub use error::{Error, Result};
 pub use measure::{measure_boundary, EdgeEnd, EdgeReport, Face, SeamReport, Stat, SHARP_EDGE_DEG};
 pub use refine::{deformed, morph_error, refine_for, refine_uniform, RefineOptions, Refinement, Scope};
-pub use repair::{make_compatible, repair, Repair};
+pub use repair::{covers_side, make_compatible, repair, Repair};
 pub use seams_refine::{refine_edges, refine_seams, SeamRefineOptions, SeamRefinement};

@@ -274,6 +274,48 @@ pub(crate) fn exact_normal<D: Deformation + ?Sized>(
     (len > 0.0 && len.is_finite()).then(|| n / len)
 }
 
+/// Which directions of `moved` (the control points of `s` moved by `d`) fall short of
+/// `M ∘ S` in their first derivative at `(u, v)`: `(u, v)` flags, set for the direction
+/// whose relative error `|S'_x − J S_x| / |J S_x|` is the larger one or at least half of
+/// it. A normal that strays from the exact morph's strays because of these; bisecting
+/// only them keeps refinement from growing a patch in the direction that is already
+/// right (a ruled side face bent across, not along, its edge).
+pub(crate) fn short_directions<D: Deformation + ?Sized>(
+    s: &NurbsSurface,
+    moved: &NurbsSurface,
+    d: &D,
+    u: f64,
+    v: f64,
+    h: f64,
+) -> (bool, bool) {
+    let e = s.eval_d1(u, v);
+    let j = d.jacobian(&e.point).unwrap_or_else(|| {
+        let mut j = Matrix3::zeros();
+        for k in 0..3 {
+            let mut dx = Vector3::zeros();
+            dx[k] = h;
+            let col = (d.deform_point(&(e.point + dx)) - d.deform_point(&(e.point - dx))) / (2.0 * h);
+            j.set_column(k, &col);
+        }
+        j
+    });
+    let m = moved.eval_d1(u, v);
+    let rel = |got: Vector3<f64>, want: Vector3<f64>| {
+        let n = want.norm();
+        if n > 0.0 {
+            (got - want).norm() / n
+        } else {
+            0.0
+        }
+    };
+    let (eu, ev) = (rel(m.du, j * e.du), rel(m.dv, j * e.dv));
+    let top = eu.max(ev);
+    if !(top.is_finite()) || top == 0.0 {
+        return (true, true);
+    }
+    (eu >= 0.5 * top, ev >= 0.5 * top)
+}
+
 /// [`Scope::Boundaries`]: along each side, a span whose boundary points miss `M ∘ S` by
 /// more than `tol` is bisected along the edge (the boundary curve of `S'` depends only
 /// on the boundary row and the knots along the edge); where the normals differ by more

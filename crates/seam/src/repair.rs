@@ -71,7 +71,9 @@ struct Framed {
     v_reversed: bool,
 }
 
-fn covers_side(s: &NurbsSurface, side: Side, r: (f64, f64)) -> bool {
+/// Whether the parameter range `r` along `side` of `s` is the side's whole length (up to
+/// `1e-9` of it): the edges [`repair`] and [`make_compatible`] can make exact.
+pub fn covers_side(s: &NurbsSurface, side: Side, r: (f64, f64)) -> bool {
     let (ud, vd) = s.domain();
     let d = if matches!(side, Side::UMin | Side::UMax) { vd } else { ud };
     let len = d.end() - d.start();

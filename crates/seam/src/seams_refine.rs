@@ -6,7 +6,7 @@ use cadmorph_nurbs::{NurbsSurface, Side, Surface};
 use serde::Serialize;
 
 use crate::measure::side_uv;
-use crate::refine::{deformed, exact_normal, well_defined_normal};
+use crate::refine::{deformed, exact_normal, short_directions, well_defined_normal};
 use crate::{SharedBoundary, TrimEdge, SHARP_EDGE_DEG};
 
 /// Settings of [`refine_seams`].
@@ -47,10 +47,44 @@ pub struct SeamRefinement {
     /// deviations from the exact morph (how far the crease or smooth join strays from
     /// what the morph makes of it).
     pub max_angle_deg: f64,
+    /// Largest growth of an iso edge's matched gap over the gap it had before the morph
+    /// (`gap after − gap before`, the quantity held to `tol`), over all iso edges; for
+    /// trim edges, as `max_gap`.
+    pub max_gap_growth: f64,
+    /// Largest growth of a smooth iso edge's normal angle over its angle before the
+    /// morph, degrees (held to `angle_tol_deg`); for creases and trim edges, as
+    /// `max_angle_deg`.
+    pub max_angle_growth_deg: f64,
+    /// Iso edges whose sides were already apart by more than `tol` (matched gap), or
+    /// whose smooth join was already off by more than `angle_tol_deg`, before the morph:
+    /// defects of the input, which refinement carries along but does not chase.
+    pub input_defects: usize,
     /// Rounds run.
     pub rounds: usize,
     /// Whether both tolerances were reached.
     pub converged: bool,
+}
+
+/// The input's own matched gap and (unoriented) normal angle along an iso edge, largest
+/// over `n` evenly spaced samples: what the edge is held to, plus the tolerances.
+fn input_state(patches: &[NurbsSurface], e: &SharedBoundary, n: usize) -> (f64, f64) {
+    let (mut gap, mut angle): (f64, f64) = (0.0, 0.0);
+    for k in 0..n {
+        let ta = e.a_range.0 + (e.a_range.1 - e.a_range.0) * k as f64 / (n - 1) as f64;
+        let (ua, va) = side_uv(&patches[e.a.patch], e.a.side, ta);
+        let (ub, vb) = side_uv(&patches[e.b.patch], e.b.side, e.b_param(ta));
+        let g = (patches[e.a.patch].eval(ua, va) - patches[e.b.patch].eval(ub, vb)).norm();
+        if g.is_finite() {
+            gap = gap.max(g);
+        }
+        if let (Some(x), Some(y)) =
+            (well_defined_normal(&patches[e.a.patch], ua, va), well_defined_normal(&patches[e.b.patch], ub, vb))
+        {
+            let t = x.cross(&y).norm().atan2(x.dot(&y)).to_degrees();
+            angle = angle.max(t.min(180.0 - t));
+        }
+    }
+    (gap, angle)
 }
 
 fn spans(s: &NurbsSurface, along_u: bool) -> Vec<f64> {
@@ -77,9 +111,13 @@ impl Marks {
             m[k] = true;
         }
     }
-    fn at(&mut self, patch: usize, u_span: usize, v_span: usize) {
-        self.u[patch][u_span] = true;
-        self.v[patch][v_span] = true;
+    fn at(&mut self, patch: usize, u_span: usize, v_span: usize, (u, v): (bool, bool)) {
+        if u {
+            self.u[patch][u_span] = true;
+        }
+        if v {
+            self.v[patch][v_span] = true;
+        }
     }
     fn across(&mut self, patch: usize, side: Side) {
         match side {
@@ -93,7 +131,10 @@ impl Marks {
 
 /// Inserts knots into `patches` (their geometry does not change) until, after moving
 /// every control point with `d`, the two sides of every edge in `edges` agree within
-/// `opts.tol` (matched gap) and `opts.angle_tol_deg` (normal angle).
+/// `opts.tol` (matched gap) and `opts.angle_tol_deg` (normal angle) more than they did
+/// before the morph: each edge is held to `max(input gap, 0) + tol` and, if smooth, to
+/// `input angle + angle_tol_deg`, so a gap the input already had (a defect that knot
+/// insertion cannot close) is carried along and never drives refinement.
 ///
 /// Along each edge, samples whose gap is too large bisect the knot spans along the
 /// edge on both sides (with their neighbours: the boundary curve there depends on
@@ -139,6 +180,9 @@ pub fn refine_edges<D: Deformation + ?Sized>(
     let count = |p: &[NurbsSurface]| p.iter().map(|s| s.control_points().len()).sum::<usize>();
     let before = count(patches);
     let mut rounds = 0;
+    // What each iso edge had before the morph (knots do not change the geometry).
+    let input: Vec<(f64, f64)> = edges.iter().map(|e| input_state(patches, e, 201)).collect();
+    let input_defects = edges.iter().zip(&input).filter(|(_, (g, a))| *g > opts.tol || *a > opts.angle_tol_deg).count();
     // Creases: edges whose sides meet at more than SHARP_EDGE_DEG somewhere (the angle
     // may fall along the edge, as where a loft's side faces meet its cap); refinement
     // keeps their angle as the morph makes it, not at zero. Knots do not change the
@@ -172,7 +216,10 @@ pub fn refine_edges<D: Deformation + ?Sized>(
             v: vbreaks.iter().map(|b| vec![false; b.len() - 1]).collect(),
         };
         let (mut max_gap, mut max_angle): (f64, f64) = (0.0, 0.0);
+        let (mut gap_growth, mut angle_growth): (f64, f64) = (0.0, 0.0);
         for (ei, e) in edges.iter().enumerate() {
+            let (gap0, angle0) = input[ei];
+            let allowed_gap = gap0 + opts.tol;
             let (a, b) = (e.a.patch, e.b.patch);
             let along = |patch: usize, side: Side| {
                 if matches!(side, Side::UMin | Side::UMax) {
@@ -189,7 +236,8 @@ pub fn refine_edges<D: Deformation + ?Sized>(
                 let (ub, vb) = side_uv(&patches[b], e.b.side, tb);
                 let gap = (moved[a].eval(ua, va) - moved[b].eval(ub, vb)).norm();
                 max_gap = max_gap.max(if gap.is_nan() { f64::INFINITY } else { gap });
-                if gap > opts.tol || gap.is_nan() {
+                gap_growth = gap_growth.max(if gap.is_nan() { f64::INFINITY } else { gap - gap0 });
+                if gap > allowed_gap || gap.is_nan() {
                     marks.along(a, e.a.side, span_of(along(a, e.a.side), ta));
                     marks.along(b, e.b.side, span_of(along(b, e.b.side), tb));
                 }
@@ -206,26 +254,36 @@ pub fn refine_edges<D: Deformation + ?Sized>(
                             let dev = x.cross(&y).norm().atan2(x.dot(&y)).to_degrees();
                             dev_sum += dev;
                             if dev > opts.angle_tol_deg / 2.0 {
-                                // The normal depends on the tangent along the edge too.
-                                marks.across(patch, side);
-                                let t = if patch == a { ta } else { tb };
-                                marks.along(patch, side, span_of(along(patch, side), t));
+                                // The normal depends on the tangent along the edge too:
+                                // bisect the directions whose derivatives fall short.
+                                let (du, dv) = short_directions(&patches[patch], &moved[patch], d, u, v, h);
+                                let across_u = matches!(side, Side::UMin | Side::UMax);
+                                let (across, along_too) = if across_u { (du, dv) } else { (dv, du) };
+                                if across {
+                                    marks.across(patch, side);
+                                }
+                                if along_too {
+                                    let t = if patch == a { ta } else { tb };
+                                    marks.along(patch, side, span_of(along(patch, side), t));
+                                }
                             }
                         }
                     }
                     max_angle = max_angle.max(dev_sum);
+                    angle_growth = angle_growth.max(dev_sum);
                 } else if let (Some(na), Some(nb)) =
                     (well_defined_normal(&moved[a], ua, va), well_defined_normal(&moved[b], ub, vb))
                 {
                     let angle = na.cross(&nb).norm().atan2(na.dot(&nb)).to_degrees();
                     let angle = angle.min(180.0 - angle);
                     max_angle = max_angle.max(angle);
-                    if angle > opts.angle_tol_deg {
+                    angle_growth = angle_growth.max(angle - angle0);
+                    if angle > angle0 + opts.angle_tol_deg {
                         marks.across(a, e.a.side);
                         marks.across(b, e.b.side);
                         // Sides whose boundary rows differ (a visible gap) also bend
                         // differently along the edge; shorter legs alone cannot fix that.
-                        if gap > 1e-3 * opts.tol {
+                        if gap > gap0 + 1e-3 * opts.tol {
                             marks.along(a, e.a.side, span_of(along(a, e.a.side), ta));
                             marks.along(b, e.b.side, span_of(along(b, e.b.side), tb));
                         }
@@ -252,14 +310,23 @@ pub fn refine_edges<D: Deformation + ?Sized>(
                     gap += if err.is_nan() { f64::INFINITY } else { err };
                     angle += dev;
                     if err.is_nan() || err > opts.tol / 2.0 || dev > opts.angle_tol_deg / 2.0 {
-                        marks.at(patch, span_of(&ubreaks[patch], of.u), span_of(&vbreaks[patch], of.v));
+                        // A point off the exact morph needs both directions; a normal
+                        // alone, only the directions whose derivatives fall short.
+                        let dirs = if err.is_nan() || err > opts.tol / 2.0 {
+                            (true, true)
+                        } else {
+                            short_directions(&patches[patch], &moved[patch], d, of.u, of.v, h)
+                        };
+                        marks.at(patch, span_of(&ubreaks[patch], of.u), span_of(&vbreaks[patch], of.v), dirs);
                     }
                 }
                 max_gap = max_gap.max(gap);
                 max_angle = max_angle.max(angle);
+                gap_growth = gap_growth.max(gap);
+                angle_growth = angle_growth.max(angle);
             }
         }
-        let done = max_gap <= opts.tol && max_angle <= opts.angle_tol_deg;
+        let done = gap_growth <= opts.tol && angle_growth <= opts.angle_tol_deg;
         let inserts: Vec<(Vec<f64>, Vec<f64>)> = (0..patches.len())
             .map(|i| {
                 let mid = |b: &[f64], m: &[bool]| -> Vec<f64> {
@@ -277,6 +344,9 @@ pub fn refine_edges<D: Deformation + ?Sized>(
                 control_points_after: count(patches),
                 max_gap,
                 max_angle_deg: max_angle,
+                max_gap_growth: gap_growth,
+                max_angle_growth_deg: angle_growth,
+                input_defects,
                 rounds,
                 converged: done,
             };

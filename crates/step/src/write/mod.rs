@@ -2,6 +2,7 @@
 //! and brand-new documents ([`DocumentBuilder`]).
 
 mod new;
+mod orphans;
 
 use std::io::Write;
 
@@ -55,7 +56,8 @@ pub fn format_real(x: f64) -> String {
 impl Document {
     /// The document as bytes: the input, byte for byte, except for the instances that
     /// were edited (rewritten in place) and added (before the `ENDSEC` of the last data
-    /// section, one per line).
+    /// section, one per line), and for those the edits left unused (removed; see
+    /// `orphans`: only instances something referenced before, or that an edit added).
     pub fn write(&self) -> Vec<u8> {
         let extra: usize = self.texts.values().map(|t| t.len() + 1).sum();
         let mut out = Vec::with_capacity(self.source.len() + extra);
@@ -69,17 +71,29 @@ impl Document {
     ///
     /// The writer's I/O errors.
     pub fn write_to<W: Write>(&self, mut w: W) -> std::io::Result<()> {
+        let orphans = self.orphans();
         let mut cursor = 0;
         let mut added = Vec::new();
+        // Original instances in file order: the rewritten ones replaced, the orphaned
+        // ones (with the line break after them) left out.
+        let mut changes: Vec<usize> = self.texts.keys().copied().filter(|&k| k < self.n_original).collect();
+        changes.extend(orphans.iter().copied().filter(|&k| k < self.n_original && !self.texts.contains_key(&k)));
+        changes.sort_by_key(|&k| self.instances[k].start);
         for (&k, text) in &self.texts {
-            if k >= self.n_original {
+            if k >= self.n_original && !orphans.contains(&k) {
                 added.push(text);
-                continue;
             }
+        }
+        for k in changes {
             let inst = &self.instances[k];
             w.write_all(&self.source[cursor..inst.start])?;
-            w.write_all(text.as_bytes())?;
             cursor = inst.end;
+            if orphans.contains(&k) {
+                let rest = &self.source[cursor..];
+                cursor += if rest.starts_with(b"\r\n") { 2 } else { usize::from(rest.starts_with(b"\n")) };
+            } else {
+                w.write_all(self.texts[&k].as_bytes())?;
+            }
         }
         if !added.is_empty() {
             w.write_all(&self.source[cursor..self.insert_at])?;

@@ -1,0 +1,171 @@
+//! OCCT's view of morphed solids and hulls (`tests/occt/edge_check.py`): the written file
+//! is valid with the input's faces, shells and solids; the written edge curves lie on
+//! their faces as far as the "after" report says (and within 1e-7 of the size where the
+//! morph keeps the faces joined); repair keeps the solid valid and its 28 creases, and
+//! the area change it reports is OCCT's.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use cadmorph_model::{CadDocument, Model, MorphOptions};
+use cadmorph_morph::math::{Point3, Vector3};
+use cadmorph_morph::Ffd;
+use cadmorph_seam::SeamRefineOptions;
+use cadmorph_testkit::{harness, sample};
+use serde_json::Value;
+
+fn edge_check(file: &Path) -> Value {
+    let mut c = Command::new(harness::python());
+    c.arg(harness::root().join("tests/occt/edge_check.py")).arg(file);
+    let out = c.output().expect("edge_check.py starts");
+    serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("edge_check.py: {e}\n{}", String::from_utf8_lossy(&out.stderr)))
+}
+
+fn open(name: &str) -> Model {
+    let bytes = std::fs::read(sample(name)).unwrap();
+    let doc: Box<dyn CadDocument> = if name.ends_with(".stp") {
+        Box::new(cadmorph_step::Document::parse(&bytes).unwrap())
+    } else {
+        Box::new(cadmorph_iges::Document::parse(&bytes).unwrap())
+    };
+    Model::new(doc).unwrap()
+}
+
+struct Scratch(PathBuf);
+impl Scratch {
+    fn new(name: &str) -> Self {
+        let d = std::env::temp_dir().join(format!("cadmorph-occt-solids-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        Scratch(d)
+    }
+}
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// `../shared/repro/box.toml`: a 2x2x2 box, its top corner raised (non-affine).
+fn box2() -> Ffd {
+    let mut f =
+        Ffd::try_new([2, 2, 2], Point3::new(-40.0, -30.0, -10.0), Vector3::new(80.0, 60.0, 20.0), Vector3::zeros())
+            .unwrap();
+    f.mu_mut().set(1, 1, 1, [0.0, 0.0, 0.2]);
+    f
+}
+
+/// A 3x3x3 box around the whole solid, its centre node moved 5 % of the diagonal.
+fn box3() -> Ffd {
+    let mut f =
+        Ffd::try_new([3, 3, 3], Point3::new(-35.0, -25.0, -10.0), Vector3::new(70.0, 50.0, 40.0), Vector3::zeros())
+            .unwrap();
+    f.mu_mut().set(1, 1, 1, [0.0322, 0.0451, 0.0564]);
+    f
+}
+
+#[test]
+#[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
+fn morphed_and_repaired_solids_stay_valid_with_their_topology_and_creases() {
+    let s = Scratch::new("solids");
+    for name in ["mixed_solid.stp", "mixed_solid_brep.igs", "mixed_solid.igs"] {
+        let input = edge_check(&sample(name));
+        let topo = |v: &Value, k: &str| v["topology"][k].as_u64().unwrap();
+        for (which, d) in [("2x2x2", box2()), ("3x3x3", box3())] {
+            for repair in [false, true] {
+                let what = format!("{name} {which} repair {repair}");
+                let mut m = open(name);
+                let size = m.size();
+                let out = m.morph(&d, &MorphOptions { repair, ..Default::default() }).unwrap();
+                let path = s.0.join(format!("{which}-{repair}-{name}"));
+                m.save(&path).unwrap();
+                let r = edge_check(&path);
+                println!(
+                    "{what}: valid {} {} edge-to-face {:.3e}, after max gap {:.3e}, sharp {}",
+                    r["valid"],
+                    r["topology"],
+                    r["edge_to_face_max"].as_f64().unwrap(),
+                    out.seams_after.max_gap_closest,
+                    out.seams_after.sharp_edges
+                );
+                if name == "mixed_solid_brep.igs" && which == "3x3x3" {
+                    // Known: OCCT rebuilds 34 edges and 37 vertices from the written 504/502
+                    // lists (20 vertices) and finds face 11 invalid. A tripwire: when this
+                    // is fixed, make the test strict.
+                    assert_eq!(r["valid"], false, "{what} is valid now: assert it");
+                } else {
+                    assert_eq!(r["valid"], true, "{what}");
+                }
+                for k in ["solids", "shells", "faces"] {
+                    assert_eq!(topo(&r, k), topo(&input, k), "{what}: {k}");
+                }
+                if name.ends_with(".stp") {
+                    assert_eq!(topo(&r, "edges"), topo(&input, "edges"), "{what}: edges");
+                }
+                // The 28 creases of the input stay creases, repaired or not.
+                assert_eq!(out.seams_before.sharp_edges, 28, "{what}");
+                assert_eq!(out.seams_after.sharp_edges, 28, "{what}");
+                if let Some(rep) = &out.repair {
+                    // Only the smooth shared iso edge of two B-spline faces (the prism's
+                    // rounded side) is repaired; the creases are left as the morph makes them.
+                    assert!(rep.edges_repaired <= 1 && rep.sharp_kept > 0, "{what}: {rep:?}");
+                }
+                // The written edge curves lie on one of their faces and are as far from
+                // the other as the after report says.
+                let e2f = r["edge_to_face_max"].as_f64().unwrap();
+                assert!(
+                    e2f <= out.seams_after.max_gap_closest * (1.0 + 1e-3) + 1e-7 * size,
+                    "{what}: {e2f} vs {}",
+                    out.seams_after.max_gap_closest
+                );
+            }
+        }
+    }
+}
+
+#[test]
+#[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
+fn refined_hulls_have_edge_curves_on_their_faces_and_the_repair_reports_its_area_change() {
+    let s = Scratch::new("hulls");
+    let bow = Ffd::from_prm(&std::fs::read_to_string(sample("prm/bow_dome.prm")).unwrap()).unwrap();
+    for name in ["hull3.stp", "hull3_defect.stp", "hull3.igs", "hull3_defect.igs"] {
+        for repair in [false, true] {
+            let what = format!("{name} repair {repair}");
+            let input = edge_check(&sample(name));
+            let mut m = open(name);
+            let size = m.size();
+            let opts =
+                MorphOptions { refine: Some(SeamRefineOptions::new(1.45e-5, 0.01)), repair, ..Default::default() };
+            let out = m.morph(&bow, &opts).unwrap();
+            assert!(out.refinement.as_ref().unwrap().converged, "{what}");
+            let path = s.0.join(format!("{repair}-{name}"));
+            m.save(&path).unwrap();
+            let r = edge_check(&path);
+            let area = r["area"].as_f64().unwrap();
+            println!(
+                "{what}: valid {}, edge-to-face {:.3e} (1e-7 size {:.3e}), area {area:.9}",
+                r["valid"],
+                r["edge_to_face_max"].as_f64().unwrap(),
+                1e-7 * size,
+            );
+            assert_eq!(r["valid"], true, "{what}");
+            assert_eq!(r["topology"], input["topology"], "{what}");
+            assert!(r["edge_to_face_max"].as_f64().unwrap() <= 1e-7 * size, "{what}");
+            if repair {
+                let rep = out.repair.as_ref().unwrap();
+                let change = rep.area_after - rep.area_before;
+                let plain = {
+                    let mut m = open(name);
+                    let opts = MorphOptions { refine: opts.refine, ..Default::default() };
+                    m.morph(&bow, &opts).unwrap();
+                    let p = s.0.join(format!("plain-{name}"));
+                    m.save(&p).unwrap();
+                    edge_check(&p)["area"].as_f64().unwrap()
+                };
+                // The reported change is OCCT's: the repaired file's area minus the
+                // unrepaired one's (faces trimmed to their boundaries).
+                assert!((area - plain - change).abs() <= 1e-6 * area, "{what}: {} vs {change}", area - plain);
+            }
+        }
+    }
+}
