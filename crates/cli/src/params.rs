@@ -32,3 +32,11 @@ pub fn deformation(path: &Path, expect: Option<&str>) -> Result<Box<dyn Deformat
     }
     params.build().with_context(|| format!("building the morph of {}", path.display()))
 }
+
+/// The FFD of `path` (for `morph --exact`, which needs the lattice itself).
+pub fn ffd(path: &Path) -> Result<cadmorph::morph::Ffd> {
+    match read(path)? {
+        Parameters::Ffd(f) => Ok(f),
+        other => bail!("{} holds {} parameters; --exact needs an FFD", path.display(), kind(&other)),
+    }
+}
