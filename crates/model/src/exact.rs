@@ -143,8 +143,11 @@ impl ExactFfd {
 
 impl<D: CadDocument> Model<D> {
     /// Morphs the model with `ffd`, exactly where it can: every face whose control
-    /// points lie in the box (and every curve bounding such a face that does too)
-    /// becomes its exact image under the FFD ([`ExactFfd`]: degree `p·(l+m+n)`, then
+    /// points lie in the box (and, in STEP, every edge curve bounding such a face that
+    /// does too; IGES trimming curves are traced on the exact face as by
+    /// [`morph`](Self::morph), because OCCT's IGES reader fails to re-parameterize the
+    /// exact image of a conic arc against its parameter-space curve) becomes its exact
+    /// image under the FFD ([`ExactFfd`]: degree `p·(l+m+n)`, then
     /// knot removal within the exact form's tolerance), analytic faces through their
     /// exact B-spline form; the other faces go the way of [`morph`](Self::morph), with
     /// `opts`' refinement for the edges that touch them. Exact faces keep their
