@@ -10,6 +10,10 @@ use cadmorph::Format;
 
 use crate::progress::Bar;
 
+/// The default knot-removal tolerance of `--exact`, relative to the model size: a few
+/// hundred ulps, so that the exact faces stay exact to rounding (gaps ≤ 1e-12 × size).
+const EXACT_TOL: f64 = 1e-13;
+
 /// Which parameter file gives the morph: the positional PARAMS, whose kind (FFD, RBF or
 /// IDW) is read from the file, or one of the flags, which also assert the kind.
 #[derive(clap::Args)]
@@ -69,6 +73,16 @@ pub struct Args {
     /// Make knots compatible across seams and make both sides identical after the morph.
     #[arg(long)]
     repair: bool,
+    /// Exact FFD: every face inside the lattice's box becomes its exact image (degree
+    /// p·(l+m+n) for an (l+1)×(m+1)×(n+1) lattice; refused above 25, OCCT's limit), then
+    /// knot removal within --exact-tol; faces crossing the box are morphed (and refined
+    /// with --refine-tol) as without it.
+    #[arg(long, requires = "ffd", conflicts_with_all = ["repair", "uniform_knots"])]
+    exact: bool,
+    /// With --exact: how far knot removal may move an exact face, model units.
+    /// Default: 1e-13 × the model size.
+    #[arg(long, requires = "exact", value_parser = crate::limits::positive)]
+    exact_tol: Option<f64>,
     /// Morph the faces that convert and keep the others as they are (listed on standard
     /// error); without it, a file with faces that cannot be converted is refused.
     #[arg(long)]
@@ -114,9 +128,24 @@ pub fn run(a: Args) -> Result<()> {
         None => None,
     };
     let opts = MorphOptions { refine, uniform_knots: a.uniform_knots, repair: a.repair };
-    let mut outcome = {
+    let exact = match a.exact {
+        true => {
+            let ffd = crate::params::ffd(path, &params)?;
+            let tol = a.exact_tol.unwrap_or(EXACT_TOL * m.size());
+            Some((cadmorph::model::ExactFfd::new(&ffd, tol)?, ffd))
+        }
+        false => None,
+    };
+    let (mut outcome, exact_report) = {
         let bar = Bar::new();
-        m.morph_with_progress(d.as_ref(), &opts, &bar).with_context(|| format!("morphing {}", a.input.display()))?
+        let context = || format!("morphing {}", a.input.display());
+        match &exact {
+            Some((e, ffd)) => {
+                let (o, r) = m.morph_exact(ffd, e, &opts, &bar).with_context(context)?;
+                (o, Some(r))
+            }
+            None => (m.morph_with_progress(d.as_ref(), &opts, &bar).with_context(context)?, None),
+        }
     };
     if let (Some(r), Some(o)) = (&outcome.refinement, &opts.refine) {
         if !r.converged {
@@ -160,8 +189,12 @@ pub fn run(a: Args) -> Result<()> {
             );
         }
     }
+    let mut json = serde_json::to_value(&outcome)?;
+    if let (Some(r), Some(obj)) = (&exact_report, json.as_object_mut()) {
+        obj.insert("exact".into(), serde_json::to_value(r)?);
+    }
     let report = match &a.report {
-        Some(r) => Some(Staged::new(r, serde_json::to_string_pretty(&outcome)?.as_bytes())?),
+        Some(r) => Some(Staged::new(r, serde_json::to_string_pretty(&json)?.as_bytes())?),
         None => None,
     };
     Staged::new(&a.output, &bytes)?.commit()?;
@@ -174,7 +207,7 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
     if a.json {
-        return crate::morph_json::print(&a.input, &a.output, path, &params, &m, &outcome, elapsed);
+        return crate::morph_json::print(&a.input, &a.output, path, &params, &m, &outcome, json.get("exact").cloned(), elapsed);
     }
     println!(
         "{} -> {} in {:.1} ms: {} faces and {} curves rewritten, control points {} -> {}",
@@ -186,6 +219,19 @@ pub fn run(a: Args) -> Result<()> {
         outcome.control_points_before,
         outcome.control_points_after
     );
+    if let Some(r) = &exact_report {
+        println!(
+            "exact FFD: {} faces exact ({} control points composed, {} after knot removal, bound {:.3e} {}), {} \
+             curves exact, {} faces crossing the box morphed by their control points",
+            r.exact_faces,
+            r.composed_control_points,
+            r.written_control_points,
+            r.removal_bound,
+            m.unit(),
+            r.exact_curves,
+            r.other_faces
+        );
+    }
     if let Some(r) = &outcome.refinement {
         println!(
             "seam refinement: {} rounds, {}; max gap {:.3e} (growth over the input {:.3e}), max angle {:.4} deg \

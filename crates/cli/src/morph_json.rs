@@ -20,6 +20,7 @@ pub fn print(
     params: &Parameters,
     m: &Model,
     o: &MorphOutcome,
+    exact: Option<serde_json::Value>,
     seconds: f64,
 ) -> Result<()> {
     let info = m.info();
@@ -50,6 +51,7 @@ pub fn print(
             "refinement": refinement,
             "seams_before": crate::seam_report::json(&o.seams_before, m.patches(), &none),
             "seams_after": crate::seam_report::json(&o.seams_after, m.patches(), &none),
+            "exact": exact,
         }),
     )
 }

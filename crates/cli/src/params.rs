@@ -37,3 +37,12 @@ pub fn read_as(path: &Path, expect: Option<&str>) -> Result<Parameters> {
 pub fn deformation(path: &Path, expect: Option<&str>) -> Result<Box<dyn Deformation + Send>> {
     read_as(path, expect)?.build().with_context(|| format!("building the morph of {}", path.display()))
 }
+
+/// The FFD of `params` (read from `path`, overrides applied), for `morph --exact`, which
+/// needs the lattice itself.
+pub fn ffd(path: &Path, params: &Parameters) -> Result<cadmorph::morph::Ffd> {
+    match params {
+        Parameters::Ffd(f) => Ok(f.clone()),
+        other => bail!("{} holds {} parameters; --exact needs an FFD", path.display(), kind_of(other)),
+    }
+}

@@ -82,6 +82,15 @@ pub enum Error {
         /// The determinant found.
         det: f64,
     },
+    /// The exact FFD of a face or curve cannot be built (see `Model::morph_exact`): the
+    /// degree it needs is above OCCT's limit of 25, or the result is not finite.
+    #[error("exact FFD of {what}: {source}")]
+    Exact {
+        /// What: `"face #17"`, `"curve DE 45"`, `"the lattice"`.
+        what: String,
+        /// The kernel's reason, with the degree needed.
+        source: cadmorph_nurbs::Error,
+    },
     /// No patch with this index.
     #[error("no patch {index} (the model has {len})")]
     NoPatch {

@@ -40,6 +40,7 @@
 
 mod edges;
 mod error;
+mod exact;
 mod model;
 mod morph;
 mod output;
@@ -47,6 +48,7 @@ mod trace;
 
 pub use cadmorph_brep::{CadDocument, EntityRef, Face, Format, ReadDocument, Skipped, Units};
 pub use error::{Error, Result};
+pub use exact::{ExactFfd, ExactReport};
 pub use model::{Info, Model, Patch, PatchInfo, Progress, Silent, Verification};
 pub use morph::{MorphOptions, MorphOutcome, RepairOutcome};
 pub use output::{write_atomic, Staged};

@@ -166,6 +166,17 @@ pub enum Error {
         /// The v parameter.
         v: f64,
     },
+    /// An exact composition (FFD of a patch, [`BezierVolume`](crate::BezierVolume)) that
+    /// would need a degree above the largest allowed (OCCT's limit of 25).
+    #[error("the exact composition needs degree {u_degree} x {v_degree}, above the maximum of {max} (OCCT's limit)")]
+    ComposedDegree {
+        /// The degree needed in u (along a curve).
+        u_degree: usize,
+        /// The degree needed in v (0 for a curve).
+        v_degree: usize,
+        /// The largest degree allowed.
+        max: usize,
+    },
     /// A data reduction (degree reduction, knot removal) that would move the curve by
     /// more than the tolerance.
     #[error("{operation}: the curve would move by more than {tol}{}", if bound.is_finite() { format!(" (bound {bound:e})") } else { String::from(" (no bound: a knot cannot be removed within it, or a weight would not stay positive)") })]

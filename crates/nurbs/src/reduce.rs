@@ -53,7 +53,7 @@ fn bezier_reduce(q: &[Hom]) -> Vec<Hom> {
 
 /// The bound of the module docs between homogeneous nets `a` (the original) and `b`
 /// on the same basis. `rational` says whether the weights take part.
-fn deviation_bound(a: &[Hom], b: &[Hom], rational: bool) -> f64 {
+pub(crate) fn deviation_bound(a: &[Hom], b: &[Hom], rational: bool) -> f64 {
     if a.len() != b.len() {
         return f64::INFINITY;
     }
@@ -82,7 +82,7 @@ fn deviation_bound(a: &[Hom], b: &[Hom], rational: bool) -> f64 {
 /// Brings `(p, knots, pw)` onto the finer knot vector `target` (same degree, `knots`
 /// a sub-multiset of `target`) by A5.4; `None` if `knots` is not contained in it or a
 /// value to insert would exceed multiplicity `p`.
-fn refine_onto(p: usize, knots: &[f64], pw: &[Hom], target: &[f64]) -> Option<Vec<Hom>> {
+pub(crate) fn refine_onto(p: usize, knots: &[f64], pw: &[Hom], target: &[f64]) -> Option<Vec<Hom>> {
     let mut x = Vec::new();
     let mut i = 0;
     for &k in target {

@@ -347,18 +347,18 @@ impl NurbsSurface {
     }
 
     /// Columns of the homogeneous net: `cols[j][i] = Pwᵢⱼ` (curves in u).
-    fn u_rows(&self) -> Vec<Vec<Hom>> {
+    pub(crate) fn u_rows(&self) -> Vec<Vec<Hom>> {
         let pw = self.homogeneous();
         (0..self.n_v).map(|j| (0..self.n_u).map(|i| pw[i * self.n_v + j]).collect()).collect()
     }
 
     /// Rows of the homogeneous net: `rows[i][j] = Pwᵢⱼ` (curves in v).
-    fn v_rows(&self) -> Vec<Vec<Hom>> {
+    pub(crate) fn v_rows(&self) -> Vec<Vec<Hom>> {
         let pw = self.homogeneous();
         pw.chunks(self.n_v).map(<[Hom]>::to_vec).collect()
     }
 
-    fn with_u_rows(&self, u_degree: usize, u_knots: Vec<f64>, cols: &[Vec<Hom>]) -> Self {
+    pub(crate) fn with_u_rows(&self, u_degree: usize, u_knots: Vec<f64>, cols: &[Vec<Hom>]) -> Self {
         let n_u = cols[0].len();
         let mut pw = vec![Hom::zeros(); n_u * self.n_v];
         for (j, col) in cols.iter().enumerate() {

@@ -1,0 +1,201 @@
+//! The exact FFD (`cadmorph morph --exact`): faces and curves that lie in the lattice's
+//! box are replaced by their exact image under the FFD, the composition of the FFD's
+//! Bernstein volume with the patch ([`cadmorph_nurbs::BezierVolume`], degree
+//! `p·(l+m+n)` for an `(l+1)×(m+1)×(n+1)` lattice), followed by knot removal within a
+//! tolerance; faces that cross the box are morphed (and refined) as [`Model::morph`]
+//! does.
+
+use cadmorph_brep::{CadDocument, EntityRef};
+use cadmorph_morph::Ffd;
+use cadmorph_nurbs::math::{Matrix3, Point3};
+use cadmorph_nurbs::{BezierVolume, NurbsCurve, NurbsSurface};
+use serde::Serialize;
+
+use crate::model::{Model, Progress};
+use crate::morph::{MorphOptions, MorphOutcome};
+use crate::{Error, Result};
+
+/// Unit-box tolerance within which a control point on the box's faces counts as inside
+/// (the FFD's own face tolerance, `cadmorph_morph::ffd::FACE_TOL`).
+const INSIDE_TOL: f64 = cadmorph_morph::ffd::FACE_TOL;
+
+/// An FFD as an exact map of NURBS: the Bézier volume `V` with `V(ψ(x)) = φ(x)` in the
+/// box (paper eq. (1)–(2)), and the tolerance of the knot removal that follows each
+/// composition.
+///
+/// # Examples
+///
+/// ```
+/// use cadmorph_model::ExactFfd;
+/// use cadmorph_morph::Ffd;
+/// let mut ffd = Ffd::unit([2, 3, 2]);
+/// ffd.mu_mut().set(1, 1, 1, [0.0, 0.0, 0.1]);
+/// let exact = ExactFfd::new(&ffd, 1e-12)?;
+/// assert_eq!(exact.degree_factor(), 1 + 2 + 1); // a bicubic face becomes degree 12
+/// # Ok::<(), cadmorph_model::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct ExactFfd {
+    volume: BezierVolume,
+    moves: bool,
+    removal_tol: f64,
+}
+
+/// What the exact path of [`Model::morph_exact`] did.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ExactReport {
+    /// Faces replaced by their exact image.
+    pub exact_faces: usize,
+    /// Faces that cross the box (or hold control points at infinity), morphed as by
+    /// [`Model::morph`].
+    pub other_faces: usize,
+    /// Bound curves replaced by their exact image.
+    pub exact_curves: usize,
+    /// Control points of the exact faces as composed, before knot removal.
+    pub composed_control_points: usize,
+    /// Control points of the exact faces as written.
+    pub written_control_points: usize,
+    /// The largest bound on how far knot removal moved an exact face (model units).
+    pub removal_bound: f64,
+}
+
+impl ExactFfd {
+    /// The exact form of `ffd`, with knot removal within `removal_tol` (model units) after
+    /// each composition (`0` keeps every knot the composition makes).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Exact`] when the lattice's degree is above 25 in a direction;
+    /// [`Error::Unsupported`] when `removal_tol` is negative or not finite.
+    pub fn new(ffd: &Ffd, removal_tol: f64) -> Result<Self> {
+        if !(removal_tol.is_finite() && removal_tol >= 0.0) {
+            return Err(Error::Unsupported("the knot removal tolerance of the exact FFD must be finite and >= 0"));
+        }
+        let [l, m, n] = ffd.n_control_points();
+        let len = ffd.box_length();
+        let to_unit = Matrix3::from_diagonal(&len.map(|x| 1.0 / x)) * ffd.rotation().transpose();
+        let volume = BezierVolume::try_new([l - 1, m - 1, n - 1], ffd.control_points(true), ffd.box_origin(), to_unit)
+            .map_err(|source| Error::Exact { what: "the lattice".into(), source })?;
+        let mu = ffd.mu();
+        let moves = mu.x.iter().chain(&mu.y).chain(&mu.z).any(|&v| v != 0.0);
+        Ok(Self { volume, moves, removal_tol })
+    }
+
+    /// `l + m + n`: the factor a patch's degrees are multiplied by.
+    pub fn degree_factor(&self) -> usize {
+        self.volume.degree_factor()
+    }
+
+    /// The Bézier volume.
+    pub fn volume(&self) -> &BezierVolume {
+        &self.volume
+    }
+
+    /// Whether the FFD moves anything (some μ is not zero).
+    pub fn moves(&self) -> bool {
+        self.moves
+    }
+
+    /// Whether every control point lies in the closed box and every weight is positive:
+    /// then the whole curve or surface does (convex hull), and its image is exact.
+    fn holds(&self, points: &[Point3<f64>], weights: Option<&[f64]>) -> bool {
+        weights.is_none_or(|w| w.iter().all(|&w| w > 0.0))
+            && points.iter().all(|p| self.volume.contains(p, INSIDE_TOL))
+    }
+
+    /// Whether `s` lies in the box (see [`holds`](Self::holds)) and the FFD moves anything.
+    pub fn holds_surface(&self, s: &NurbsSurface) -> bool {
+        self.moves && self.holds(s.control_points(), s.weights())
+    }
+
+    /// Whether `c` lies in the box and the FFD moves anything.
+    pub fn holds_curve(&self, c: &NurbsCurve) -> bool {
+        self.moves && self.holds(c.control_points(), c.weights())
+    }
+
+    /// The exact image of `s`, its surplus knots removed within the tolerance; returns
+    /// it with the control points composed and the removal's bound.
+    ///
+    /// # Errors
+    ///
+    /// The kernel's [`ComposedDegree`](cadmorph_nurbs::Error::ComposedDegree) (above
+    /// degree 25) or a non-finite result, as [`Error::Exact`] naming `entity`.
+    pub fn surface(&self, s: &NurbsSurface, entity: EntityRef) -> Result<(NurbsSurface, usize, f64)> {
+        let mut r = s.composed_with(&self.volume).map_err(|source| Error::Exact { what: format!("face {entity}"), source })?;
+        let composed = r.control_points().len();
+        let bound = if self.removal_tol > 0.0 { r.remove_knots_within(self.removal_tol).bound } else { 0.0 };
+        Ok((r, composed, bound))
+    }
+
+    /// The exact image of `c`, its surplus knots removed within the tolerance.
+    ///
+    /// # Errors
+    ///
+    /// As [`surface`](Self::surface).
+    pub fn curve(&self, c: &NurbsCurve, entity: EntityRef) -> Result<NurbsCurve> {
+        let mut r = c.composed_with(&self.volume).map_err(|source| Error::Exact { what: format!("curve {entity}"), source })?;
+        if self.removal_tol > 0.0 {
+            r.remove_knots_within(self.removal_tol);
+        }
+        Ok(r)
+    }
+}
+
+impl<D: CadDocument> Model<D> {
+    /// Morphs the model with `ffd`, exactly where it can: every face whose control
+    /// points lie in the box (and, in STEP, every edge curve bounding such a face that
+    /// does too; IGES trimming curves are traced on the exact face as by
+    /// [`morph`](Self::morph), because OCCT's IGES reader fails to re-parameterize the
+    /// exact image of a conic arc against its parameter-space curve) becomes its exact
+    /// image under the FFD ([`ExactFfd`]: degree `p·(l+m+n)`, then
+    /// knot removal within the exact form's tolerance), analytic faces through their
+    /// exact B-spline form; the other faces go the way of [`morph`](Self::morph), with
+    /// `opts`' refinement for the edges that touch them. Exact faces keep their
+    /// parameters, so edges shared by two of them have the input's gaps mapped by the
+    /// FFD (zero stays zero, to rounding and the removal tolerance).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Exact`] before the document changes when a face or curve in the box
+    /// would need a degree above 25, naming the degree; [`Error::Unsupported`] with
+    /// `opts.repair` or `opts.uniform_knots` (they edit the nets the composition
+    /// replaces); those of [`morph`](Self::morph).
+    pub fn morph_exact(
+        &mut self,
+        ffd: &Ffd,
+        exact: &ExactFfd,
+        opts: &MorphOptions,
+        progress: &dyn Progress,
+    ) -> Result<(MorphOutcome, ExactReport)> {
+        if opts.repair || opts.uniform_knots.is_some() {
+            return Err(Error::Unsupported("the exact FFD takes no --repair or --uniform-knots"));
+        }
+        let inside: Vec<bool> = self.faces.iter().map(|f| exact.holds_surface(&f.surface)).collect();
+        // Refuse before anything changes: every degree the exact path will need.
+        let d = exact.degree_factor();
+        for (face, _) in self.faces.iter().zip(&inside).filter(|(_, &i)| i) {
+            let (p, q) = (face.surface.u_degree() * d, face.surface.v_degree() * d);
+            if p > cadmorph_nurbs::MAX_DEGREE || q > cadmorph_nurbs::MAX_DEGREE {
+                let source =
+                    cadmorph_nurbs::Error::ComposedDegree { u_degree: p, v_degree: q, max: cadmorph_nurbs::MAX_DEGREE };
+                return Err(Error::Exact { what: format!("face {}", face.entity), source });
+            }
+        }
+        for b in self.bounds.iter().filter(|b| inside[b.face] && exact.holds_curve(&b.curve)) {
+            let p = b.curve.degree() * d;
+            if p > cadmorph_nurbs::MAX_DEGREE {
+                let source =
+                    cadmorph_nurbs::Error::ComposedDegree { u_degree: p, v_degree: 0, max: cadmorph_nurbs::MAX_DEGREE };
+                return Err(Error::Exact { what: format!("curve {}", b.label), source });
+            }
+        }
+        let mut report = ExactReport::default();
+        let outcome = self.morph_impl(ffd, opts, progress, Some((exact, &inside, &mut report)))?;
+        report.exact_faces = inside.iter().filter(|&&i| i).count();
+        report.other_faces = inside.len() - report.exact_faces;
+        report.written_control_points =
+            self.faces.iter().zip(&inside).filter(|(_, &i)| i).map(|(f, _)| f.surface.control_points().len()).sum();
+        Ok((outcome, report))
+    }
+}
+

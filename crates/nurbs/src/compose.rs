@@ -1,0 +1,399 @@
+//! Exact composition of curves and surfaces with a trivariate Bernstein (Bézier) volume:
+//! the exact image of a NURBS patch under a free-form deformation (paper §2.1.1,
+//! eq. (1)–(2)) whose lattice holds the patch.
+//!
+//! # The degree
+//!
+//! An FFD with an `(l+1) × (m+1) × (n+1)` lattice is, inside its box, the Bézier volume
+//!
+//! ```text
+//! V(t) = Σᵢ Σⱼ Σₖ Bᵢˡ(t₁) Bⱼᵐ(t₂) Bₖⁿ(t₃) Qᵢⱼₖ,   t = ψ(x) = M (x − o)   (affine)
+//! ```
+//!
+//! with `Qᵢⱼₖ` the displaced lattice nodes (Bernstein polynomials reproduce linear
+//! functions, so `x + Σ b μ` is this sum over the moved nodes). For a rational patch
+//! `S = A/W` of degree `(p, q)`, `ψ(S) = T/W` with `T = M(A − o W)` polynomial of
+//! degree `(p, q)`, and
+//!
+//! ```text
+//! Bᵢˡ(T₁/W) = C(l,i) T₁ⁱ (W − T₁)ˡ⁻ⁱ / Wˡ,
+//! V(ψ(S)) = Σᵢⱼₖ C(l,i) C(m,j) C(n,k) T₁ⁱ(W−T₁)ˡ⁻ⁱ T₂ʲ(W−T₂)ᵐ⁻ʲ T₃ᵏ(W−T₃)ⁿ⁻ᵏ Qᵢⱼₖ / W^(l+m+n).
+//! ```
+//!
+//! Numerator and denominator are polynomials of degree `p·(l+m+n)` in u and
+//! `q·(l+m+n)` in v: the composed patch is rational of that degree with homogeneous
+//! control points `(N, W^(l+m+n))`, and polynomial (weights 1) when `S` is. A curve of
+//! degree `p` becomes one of degree `p·(l+m+n)`. This is the general degree; a patch
+//! whose box coordinates do not all depend on a parameter can have a lower true degree,
+//! which this module does not look for.
+//!
+//! # The algorithm
+//!
+//! Each Bézier piece (Piegl & Tiller A5.6/A5.7) is composed in the Bernstein basis:
+//! products of Bernstein polynomials by the product rule of Farouki & Rajan (1988),
+//! `(f·g)ᵢ = Σₐ C(p₁,a) C(p₂,i−a) / C(p₁+p₂,i) · fₐ gᵢ₋ₐ` (per direction), and the sum
+//! over the lattice nested as `Σᵢ Pᵢ¹ (Σⱼ Pⱼ² (Σₖ Pₖ³ Qᵢⱼₖ))`. Every coefficient is a
+//! convex-like combination of the inputs, so the composition is as well conditioned as
+//! evaluation. The pieces are joined again with interior knots of multiplicity
+//! `p·(l+m+n)` (C⁰ as a net); the continuity the patch had (C^k at a knot of
+//! multiplicity `p − k`) is kept by the composition, and
+//! [`NurbsSurface::remove_knots_within`] takes the surplus copies out.
+
+use nalgebra::{Matrix3, Point3, Vector3};
+
+use crate::algo::Hom;
+use crate::curve::binomial;
+use crate::{Error, NurbsCurve, NurbsSurface, Result, MAX_DEGREE};
+
+/// A trivariate Bézier volume placed in model space: `V(ψ(x))` with
+/// `ψ(x) = M (x − o)` mapping the model onto the unit cube `[0, 1]³` (paper eq. (1)).
+///
+/// This is an FFD's map inside its box: with `Qᵢⱼₖ` the moved lattice nodes
+/// (`Ffd::control_points(true)` in `cadmorph-morph`), `M = diag(1/ℓ) Rᵀ` and `o` the box
+/// origin, `V(ψ(x)) = φ(x)` for every `x` in the box.
+///
+/// # Examples
+///
+/// ```
+/// use cadmorph_nurbs::{BezierVolume, NurbsSurface, Surface};
+/// use cadmorph_nurbs::math::{Matrix3, Point3};
+/// // The identity lattice of the unit cube, corner (1, 1, 1) raised by 0.5 in z.
+/// let mut q = Vec::new();
+/// for i in 0..2 { for j in 0..2 { for k in 0..2 {
+///     q.push(Point3::new(i as f64, j as f64, k as f64 + if i + j + k == 3 { 0.5 } else { 0.0 }));
+/// } } }
+/// let v = BezierVolume::try_new([1, 1, 1], q, Point3::origin(), Matrix3::identity())?;
+/// let plane = NurbsSurface::bilinear([[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0], [1.0, 1.0, 1.0]]);
+/// let s = plane.composed_with(&v)?;
+/// assert_eq!((s.u_degree(), s.v_degree()), (3, 3)); // 1 · (1 + 1 + 1)
+/// let (u, w) = (0.3, 0.8);
+/// assert!((s.eval(u, w) - v.eval(&plane.eval(u, w))).norm() < 1e-14);
+/// # Ok::<(), cadmorph_nurbs::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct BezierVolume {
+    degrees: [usize; 3],
+    /// `Qᵢⱼₖ` at `(i·(m+1) + j)·(n+1) + k`, as homogeneous points of weight 1.
+    nodes: Vec<Hom>,
+    origin: Point3<f64>,
+    to_unit: Matrix3<f64>,
+}
+
+impl BezierVolume {
+    /// A volume of degrees `[l, m, n]` with control points in C order
+    /// (`(i·(m+1) + j)·(n+1) + k`), placed by `t = to_unit · (x − origin)`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Degree`] for a degree of 0 or above [`MAX_DEGREE`]; [`Error::NetSize`] when
+    /// the point count is not `(l+1)(m+1)(n+1)`; [`Error::NotFinite`] for a non-finite
+    /// point, origin or map entry.
+    pub fn try_new(
+        degrees: [usize; 3],
+        control_points: Vec<Point3<f64>>,
+        origin: Point3<f64>,
+        to_unit: Matrix3<f64>,
+    ) -> Result<Self> {
+        for &d in &degrees {
+            if d == 0 || d > MAX_DEGREE {
+                return Err(Error::Degree { degree: d });
+            }
+        }
+        let [l, m, n] = degrees;
+        let count = (l + 1) * (m + 1) * (n + 1);
+        if control_points.len() != count {
+            return Err(Error::NetSize { n_u: (l + 1) * (m + 1), n_v: n + 1, found: control_points.len() });
+        }
+        crate::curve::check_points(&control_points)?;
+        for (index, &value) in origin.iter().chain(to_unit.iter()).enumerate() {
+            if !value.is_finite() {
+                return Err(Error::NotFinite { what: "volume placement entry", index, value });
+            }
+        }
+        let nodes = control_points.iter().map(|p| Hom::new(p.x, p.y, p.z, 1.0)).collect();
+        Ok(Self { degrees, nodes, origin, to_unit })
+    }
+
+    /// Degrees `[l, m, n]` (lattice size minus one per direction).
+    pub fn degrees(&self) -> [usize; 3] {
+        self.degrees
+    }
+
+    /// `l + m + n`: a curve or surface of degree `p` composed with the volume has degree
+    /// `p · (l + m + n)` (module docs).
+    pub fn degree_factor(&self) -> usize {
+        self.degrees.iter().sum()
+    }
+
+    /// The unit-cube coordinates `ψ(x)` of a model point.
+    pub fn reference(&self, x: &Point3<f64>) -> Vector3<f64> {
+        self.to_unit * (x - self.origin)
+    }
+
+    /// Whether `x` lies in the closed box, to `tol` in unit-cube coordinates.
+    pub fn contains(&self, x: &Point3<f64>, tol: f64) -> bool {
+        self.reference(x).iter().all(|&c| c >= -tol && c <= 1.0 + tol)
+    }
+
+    /// `V(ψ(x))`, by the de Casteljau-free Bernstein sum (no clamping: points outside
+    /// the box are extrapolated by the same polynomial).
+    pub fn eval(&self, x: &Point3<f64>) -> Point3<f64> {
+        let t = self.reference(x);
+        let [l, m, n] = self.degrees;
+        let b = |d: usize, s: f64| -> Vec<f64> {
+            (0..=d).map(|i| binomial(d, i) * s.powi(i as i32) * (1.0 - s).powi((d - i) as i32)).collect()
+        };
+        let (bx, by, bz) = (b(l, t.x), b(m, t.y), b(n, t.z));
+        let mut acc = Vector3::zeros();
+        for i in 0..=l {
+            for j in 0..=m {
+                for k in 0..=n {
+                    acc += self.nodes[(i * (m + 1) + j) * (n + 1) + k].xyz() * (bx[i] * by[j] * bz[k]);
+                }
+            }
+        }
+        Point3::from(acc)
+    }
+
+    /// Composes one Bézier piece of bidegree `(p, q)` (homogeneous net, row by row)
+    /// and returns the composed net of bidegree `(p·D, q·D)`, `D = l + m + n`.
+    fn compose_piece(&self, p: usize, q: usize, net: &[Hom]) -> Bernstein<Hom> {
+        let w = Bernstein { p, q, c: net.iter().map(|h| h.w).collect() };
+        let [l, m, n] = self.degrees;
+        // T_a = M_a · (A − o W) and U_a = W − T_a, for the three box directions.
+        let coords: Vec<(Bernstein<f64>, Bernstein<f64>)> = (0..3)
+            .map(|a| {
+                let row = self.to_unit.row(a).transpose();
+                let t: Vec<f64> = net.iter().map(|h| row.dot(&(h.xyz() - self.origin.coords * h.w))).collect();
+                let u = t.iter().zip(&w.c).map(|(t, w)| w - t).collect();
+                (Bernstein { p, q, c: t }, Bernstein { p, q, c: u })
+            })
+            .collect();
+        // Pᵢ = C(d, i) Tⁱ U^(d−i) for i = 0..=d.
+        let powers = |(t, u): &(Bernstein<f64>, Bernstein<f64>), d: usize| -> Vec<Bernstein<f64>> {
+            let mut tp = vec![Bernstein::one()];
+            let mut up = vec![Bernstein::one()];
+            for i in 1..=d {
+                tp.push(tp[i - 1].times(t, 0.0));
+                up.push(up[i - 1].times(u, 0.0));
+            }
+            (0..=d)
+                .map(|i| {
+                    let mut b = tp[i].times(&up[d - i], 0.0);
+                    b.scale(binomial(d, i));
+                    b
+                })
+                .collect()
+        };
+        let (p1, p2, p3) = (powers(&coords[0], l), powers(&coords[1], m), powers(&coords[2], n));
+        let mut total: Option<Bernstein<Hom>> = None;
+        for (i, pi) in p1.iter().enumerate() {
+            let mut h: Option<Bernstein<Hom>> = None;
+            for (j, pj) in p2.iter().enumerate() {
+                // G = Σₖ Pₖ³ Qᵢⱼₖ
+                let mut g = Bernstein { p: p3[0].p, q: p3[0].q, c: vec![Hom::zeros(); p3[0].c.len()] };
+                for (k, pk) in p3.iter().enumerate() {
+                    let node = self.nodes[(i * (m + 1) + j) * (n + 1) + k];
+                    for (gc, &s) in g.c.iter_mut().zip(&pk.c) {
+                        *gc += node * s;
+                    }
+                }
+                let term = pj.times(&g, Hom::zeros());
+                h = Some(match h {
+                    None => term,
+                    Some(mut acc) => {
+                        acc.add(&term);
+                        acc
+                    }
+                });
+            }
+            let term = pi.times(&h.expect("m ≥ 1"), Hom::zeros());
+            total = Some(match total {
+                None => term,
+                Some(mut acc) => {
+                    acc.add(&term);
+                    acc
+                }
+            });
+        }
+        total.expect("l ≥ 1")
+    }
+
+    /// The degrees `(p·D, q·D)` a surface of degrees `(p, q)` needs, or the error that
+    /// names them when either is above [`MAX_DEGREE`].
+    fn check_degrees(&self, p: usize, q: usize) -> Result<(usize, usize)> {
+        let d = self.degree_factor();
+        let (pu, qv) = (p * d, q * d);
+        if pu > MAX_DEGREE || qv > MAX_DEGREE {
+            return Err(Error::ComposedDegree { u_degree: pu, v_degree: qv, max: MAX_DEGREE });
+        }
+        Ok((pu, qv))
+    }
+}
+
+/// A bivariate polynomial in the tensor Bernstein basis of bidegree `(p, q)`,
+/// coefficients row by row (`i·(q+1) + j`); a univariate one has `q = 0`.
+#[derive(Debug, Clone)]
+struct Bernstein<T> {
+    p: usize,
+    q: usize,
+    c: Vec<T>,
+}
+
+impl Bernstein<f64> {
+    fn one() -> Self {
+        Bernstein { p: 0, q: 0, c: vec![1.0] }
+    }
+
+    fn scale(&mut self, s: f64) {
+        for c in &mut self.c {
+            *c *= s;
+        }
+    }
+
+    /// The product `self · g` (Farouki & Rajan's Bernstein product, per direction).
+    fn times<T>(&self, g: &Bernstein<T>, zero: T) -> Bernstein<T>
+    where
+        T: Copy + std::ops::AddAssign + std::ops::Mul<f64, Output = T>,
+    {
+        let (p, q) = (self.p + g.p, self.q + g.q);
+        let mut c = vec![zero; (p + 1) * (q + 1)];
+        let wu = product_weights(self.p, g.p);
+        let wv = product_weights(self.q, g.q);
+        for a in 0..=self.p {
+            for b in 0..=self.q {
+                let f = self.c[a * (self.q + 1) + b];
+                if f == 0.0 {
+                    continue;
+                }
+                for i in 0..=g.p {
+                    let cu = wu[a][i] * f;
+                    for j in 0..=g.q {
+                        c[(a + i) * (q + 1) + b + j] += g.c[i * (g.q + 1) + j] * (cu * wv[b][j]);
+                    }
+                }
+            }
+        }
+        Bernstein { p, q, c }
+    }
+}
+
+impl Bernstein<Hom> {
+    fn add(&mut self, other: &Bernstein<Hom>) {
+        for (a, b) in self.c.iter_mut().zip(&other.c) {
+            *a += *b;
+        }
+    }
+}
+
+/// `w[a][i] = C(p₁, a) C(p₂, i) / C(p₁ + p₂, a + i)`.
+fn product_weights(p1: usize, p2: usize) -> Vec<Vec<f64>> {
+    (0..=p1)
+        .map(|a| (0..=p2).map(|i| binomial(p1, a) * binomial(p2, i) / binomial(p1 + p2, a + i)).collect())
+        .collect()
+}
+
+/// Knot values with the multiplicity each needs after composition: `d + 1` at the ends
+/// and at C⁻¹ joints (input multiplicity above `p`), `d` elsewhere (C⁰ nets).
+fn joined_knots(values: &[f64], mults: &[usize], p: usize, d: usize) -> (Vec<f64>, Vec<bool>) {
+    let last = values.len() - 1;
+    let mut knots = Vec::new();
+    let mut broken = vec![false; values.len()];
+    for (i, (&v, &m)) in values.iter().zip(mults).enumerate() {
+        let end = i == 0 || i == last;
+        broken[i] = !end && m > p;
+        let r = if end || broken[i] { d + 1 } else { d };
+        knots.extend(std::iter::repeat_n(v, r));
+    }
+    (knots, broken)
+}
+
+/// Index of the first control point of piece `a` along a direction whose interior joints
+/// are C⁰ (`d` per piece) or broken (one more).
+fn piece_start(a: usize, d: usize, broken: &[bool]) -> usize {
+    a * d + broken[1..=a].iter().filter(|&&b| b).count()
+}
+
+impl NurbsSurface {
+    /// The exact composition `V ∘ S`: a surface `R` with `R(u, v) = V(ψ(S(u, v)))` on the
+    /// same domain, of degree `(p·D, q·D)` with `D = l + m + n` (module docs), rational
+    /// when `S` is (through its homogeneous form), with interior knots of multiplicity
+    /// `p·D` (`q·D`) — follow with
+    /// [`remove_knots_within`](NurbsSurface::remove_knots_within) for a smaller net.
+    ///
+    /// Where `S` leaves the volume's box the result follows the volume's polynomial, not
+    /// a clamped FFD: compose only surfaces that lie in the box.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::ComposedDegree`] when a degree would exceed [`MAX_DEGREE`] (OCCT's
+    /// limit), naming the degrees needed; [`Error::NotFinite`] if the result is not finite.
+    pub fn composed_with(&self, v: &BezierVolume) -> Result<NurbsSurface> {
+        let c = self.clamped();
+        let (p, q) = (c.u_degree(), c.v_degree());
+        let (pd, qd) = v.check_degrees(p, q)?;
+        let (uvals, umults) = c.u_knots().distinct();
+        let (vvals, vmults) = c.v_knots().distinct();
+        let (uk, ubroken) = joined_knots(&uvals, &umults, p, pd);
+        let (vk, vbroken) = joined_knots(&vvals, &vmults, q, qd);
+        let n_u = uk.len() - pd - 1;
+        let n_v = vk.len() - qd - 1;
+        let mut pw = vec![Hom::zeros(); n_u * n_v];
+        for (a, row) in c.bezier_patches().iter().enumerate() {
+            let i0 = piece_start(a, pd, &ubroken);
+            for (b, piece) in row.iter().enumerate() {
+                let j0 = piece_start(b, qd, &vbroken);
+                let net = v.compose_piece(p, q, &piece.homogeneous());
+                for i in 0..=pd {
+                    for j in 0..=qd {
+                        pw[(i0 + i) * n_v + j0 + j] = net.c[i * (qd + 1) + j];
+                    }
+                }
+            }
+        }
+        let rational = c.is_rational();
+        if !rational {
+            for h in &mut pw {
+                *h = Hom::new(h.x / h.w, h.y / h.w, h.z / h.w, 1.0);
+            }
+        }
+        let s = NurbsSurface::from_parts((pd, qd), (uk, vk), (n_u, n_v), &pw, rational);
+        crate::curve::check_points(s.control_points())?;
+        if let Some(w) = s.weights() {
+            crate::curve::check_weights(w, w.len(), true)?;
+        }
+        Ok(s)
+    }
+}
+
+impl NurbsCurve {
+    /// The exact composition `V ∘ C` of degree `p·(l + m + n)` on the same domain
+    /// (module docs; see [`NurbsSurface::composed_with`]), rational when `C` is.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::ComposedDegree`] above [`MAX_DEGREE`]; [`Error::NotFinite`].
+    pub fn composed_with(&self, v: &BezierVolume) -> Result<NurbsCurve> {
+        let c = self.clamped();
+        let p = c.degree();
+        let (pd, _) = v.check_degrees(p, 0)?;
+        let (vals, mults) = c.knots().distinct();
+        let (knots, broken) = joined_knots(&vals, &mults, p, pd);
+        let n = knots.len() - pd - 1;
+        let mut pw = vec![Hom::zeros(); n];
+        for (a, seg) in c.bezier_segments().iter().enumerate() {
+            let i0 = piece_start(a, pd, &broken);
+            let net = v.compose_piece(p, 0, &seg.homogeneous());
+            pw[i0..=i0 + pd].copy_from_slice(&net.c);
+        }
+        let rational = c.is_rational();
+        if !rational {
+            for h in &mut pw {
+                *h = Hom::new(h.x / h.w, h.y / h.w, h.z / h.w, 1.0);
+            }
+        }
+        let out = NurbsCurve::from_parts(pd, knots, &pw, rational);
+        crate::curve::check_points(out.control_points())?;
+        Ok(out)
+    }
+}
