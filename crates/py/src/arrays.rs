@@ -33,7 +33,9 @@ pub(crate) fn points_view<'py>(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<
     }
     let shape = untyped.shape();
     if shape.len() != 2 || shape[1] != 3 {
-        return Err(PyValueError::new_err(format!("{name} must have shape (n, 3), got {shape:?}")));
+        let shown: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
+        let shown = if shown.len() == 1 { format!("({},)", shown[0]) } else { format!("({})", shown.join(", ")) };
+        return Err(PyValueError::new_err(format!("{name} must have shape (n, 3), got {shown}")));
     }
     if !untyped.is_c_contiguous() {
         return Err(PyValueError::new_err(format!(

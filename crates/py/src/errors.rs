@@ -16,14 +16,14 @@ use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 
 pyo3::create_exception!(
-    _native,
+    cadmorph,
     ParameterError,
     PyValueError,
     "A parameter file (PyGeM .prm or TOML) or a parameter value is invalid. Attributes: `path` (str or None) and `line` (1-based int or None)."
 );
 
 pyo3::create_exception!(
-    _native,
+    cadmorph,
     CadFileError,
     PyValueError,
     "An IGES/STEP file does not read, or a model cannot be morphed or saved. Attributes: `path` (str or None), `line` (1-based int or None) and `entity` (\"DE 5\", \"#12\" or None)."

@@ -14,10 +14,39 @@ use crate::arrays::points_to_array;
 use crate::errors::model_err;
 use crate::morphs::morph_of;
 
-/// A value serialised by serde as the Python object `json.loads` makes of it.
+/// Entity references (`{"format", "id", "occurrence"}` in serde's form) as the names the
+/// files use, `"DE 5"` (IGES) and `"#12"` (STEP), as `EntityRef`'s `Display` writes them.
+fn entity_names(v: &mut serde_json::Value) {
+    use serde_json::Value;
+    match v {
+        Value::Object(map) => {
+            let is_ref = map.len() == 3 && map.contains_key("format") && map.contains_key("id") && map.contains_key("occurrence");
+            if is_ref {
+                let id = map["id"].as_u64().unwrap_or(0);
+                let occurrence = map["occurrence"].as_u64().unwrap_or(0);
+                let mut name = match map["format"].as_str() {
+                    Some("Iges") => format!("DE {id}"),
+                    _ => format!("#{id}"),
+                };
+                if occurrence > 0 {
+                    name.push_str(&format!(" (occurrence {})", occurrence + 1));
+                }
+                *v = Value::String(name);
+            } else {
+                map.values_mut().for_each(entity_names);
+            }
+        }
+        Value::Array(items) => items.iter_mut().for_each(entity_names),
+        _ => {}
+    }
+}
+
+/// A value serialised by serde as the Python object `json.loads` makes of it, with entity
+/// references as names (see [`entity_names`]).
 fn to_python<'py, T: Serialize>(py: Python<'py>, value: &T) -> PyResult<Bound<'py, PyAny>> {
-    let text = serde_json::to_string(value).map_err(|e| PyValueError::new_err(e.to_string()))?;
-    py.import("json")?.call_method1("loads", (text,))
+    let mut v = serde_json::to_value(value).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    entity_names(&mut v);
+    py.import("json")?.call_method1("loads", (v.to_string(),))
 }
 
 /// An IGES or STEP file as faces (exact NURBS patches in world coordinates) and the edges
@@ -25,7 +54,7 @@ fn to_python<'py, T: Serialize>(py: Python<'py>, value: &T) -> PyResult<Bound<'p
 /// move; `save` writes the edited document (every other entity byte for byte).
 ///
 /// A model belongs to the thread that opened it.
-#[pyclass(name = "Model", module = "cadmorph._native", unsendable)]
+#[pyclass(name = "Model", module = "cadmorph", unsendable)]
 pub struct PyModel {
     model: cadmorph::Model,
     path: Option<PathBuf>,

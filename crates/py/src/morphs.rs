@@ -378,7 +378,7 @@ fn vec3(py: Python<'_>, v: Vector3<f64>) -> Bound<'_, numpy::PyArray1<f64>> {
 /// array to change them (reading gives a copy). Points outside the closed box do not
 /// move. Points on a face move like their neighbours inside: unit-box coordinates within
 /// `face_tol` of the box count as on it (PyGeM tests strictly, which is `face_tol=0`).
-#[pyclass(name = "Ffd", module = "cadmorph._native")]
+#[pyclass(name = "Ffd", module = "cadmorph")]
 #[derive(Clone)]
 pub struct PyFfd {
     pub(crate) inner: Ffd,
@@ -633,7 +633,7 @@ fn displacements(orig: &[Point3<f64>], def: &[Point3<f64>]) -> PyResult<Vec<Vect
 /// is the power of `thin_plate_spline` and `polyharmonic_spline` (default 2). The system
 /// is solved once, here (GIL released); a singular or ill-conditioned one raises
 /// `ParameterError` with its condition estimate.
-#[pyclass(name = "Rbf", module = "cadmorph._native")]
+#[pyclass(name = "Rbf", module = "cadmorph")]
 pub struct PyRbf {
     pub(crate) inner: Arc<Rbf>,
 }
@@ -759,7 +759,7 @@ impl PyRbf {
 /// d⁻ᵖ, optional cutoff radius); `variant="pygem"` is what PyGeM's `IDW` computes (distance
 /// in the Minkowski p-norm, weight 1/d; integer power, no cutoff), which reading a PyGeM
 /// `.prm` file selects.
-#[pyclass(name = "Idw", module = "cadmorph._native")]
+#[pyclass(name = "Idw", module = "cadmorph")]
 pub struct PyIdw {
     pub(crate) inner: Arc<Idw>,
 }
@@ -891,7 +891,7 @@ impl PyIdw {
 ///
 /// `Affine(matrix=None, translation=None)` (identity and zero by default); also
 /// `Affine.translation(t)`, `Affine.scaling(s)`, `Affine.rotation(angles_deg)` (R = Rx·Ry·Rz).
-#[pyclass(name = "Affine", module = "cadmorph._native")]
+#[pyclass(name = "Affine", module = "cadmorph")]
 pub struct PyAffine {
     pub(crate) inner: Affine,
 }
@@ -973,7 +973,7 @@ impl PyAffine {
 }
 
 /// Deformations applied one after the other (made by `compose(a, b, ...)` or `a.then(b)`).
-#[pyclass(name = "Composed", module = "cadmorph._native")]
+#[pyclass(name = "Composed", module = "cadmorph")]
 pub struct PyComposed {
     pub(crate) inner: Morph,
 }
@@ -1014,7 +1014,7 @@ impl PyComposed {
 /// A deformation given by a Python function `f(points) -> points` on (n, 3) float64 arrays
 /// (PyGeM's `CustomDeformation`, vectorised). It runs with the GIL held, on one thread; an
 /// exception it raises is re-raised by the call that applied it.
-#[pyclass(name = "FromFunction", module = "cadmorph._native")]
+#[pyclass(name = "FromFunction", module = "cadmorph")]
 pub struct PyFromFunction {
     pub(crate) inner: Morph,
 }
