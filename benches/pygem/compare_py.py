@@ -148,6 +148,9 @@ def main():
                 print(f"| {i + 1} | {r:.5f} | {p:.5f} | {p / r:.3f} | {n:.5f} | {n / r:.3f} | {d:.1e} |")
             print(f"\nPython in place / Rust, min / median / max over rounds: {mmm([p / r for r, p, _, _ in rows], '{:.3f}')}")
             print(f"Python new array / Rust: {mmm([n / r for r, _, n, _ in rows], '{:.3f}')}")
+            best_r, best_p, best_n = (min(x[i] for x in rows) for i in range(3))
+            print(f"fastest of all rounds: Rust {best_r:.5f} s, Python in place {best_p:.5f} s ({best_p / best_r:.3f}), "
+                  f"Python new array {best_n:.5f} s ({best_n / best_r:.3f})")
         return
     use_pygem = not args.no_pygem
     if use_pygem and not os.environ.get("PYGEM_DIR"):

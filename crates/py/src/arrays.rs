@@ -9,8 +9,7 @@
 use cadmorph::morph::math::Point3;
 use numpy::ndarray::Array2;
 use numpy::{
-    IntoPyArray, PyArray2, PyArrayDescrMethods, PyArrayMethods, PyReadonlyArray2, PyUntypedArray,
-    PyUntypedArrayMethods,
+    IntoPyArray, PyArray2, PyArrayDescrMethods, PyArrayMethods, PyReadonlyArray2, PyUntypedArray, PyUntypedArrayMethods,
 };
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -42,7 +41,8 @@ pub(crate) fn points_view<'py>(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<
             "{name} must be C-contiguous (a transposed or strided view is not; use numpy.ascontiguousarray({name}))"
         )));
     }
-    let typed = obj.cast::<PyArray2<f64>>().map_err(|_| PyTypeError::new_err(format!("{name}: not a float64 array")))?;
+    let typed =
+        obj.cast::<PyArray2<f64>>().map_err(|_| PyTypeError::new_err(format!("{name}: not a float64 array")))?;
     typed.try_readonly().map_err(|e| PyValueError::new_err(format!("{name}: {e}")))
 }
 
@@ -91,9 +91,8 @@ pub(crate) fn points_to_array<'py>(py: Python<'py>, pts: &[Point3<f64>]) -> PyRe
 
 /// Three floats (a sequence or array of length 3), or a `ValueError`/`TypeError` naming `name`.
 pub(crate) fn three(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<[f64; 3]> {
-    let v: Vec<f64> = obj.extract().map_err(|_| {
-        PyTypeError::new_err(format!("{name} must be a sequence of three numbers"))
-    })?;
+    let v: Vec<f64> =
+        obj.extract().map_err(|_| PyTypeError::new_err(format!("{name} must be a sequence of three numbers")))?;
     let a: [f64; 3] = v
         .as_slice()
         .try_into()

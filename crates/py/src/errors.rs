@@ -91,10 +91,7 @@ pub(crate) fn morph_err(e: cadmorph::morph::Error, path: Option<&Path>) -> PyErr
         with_attrs(
             py,
             ParameterError::new_err(full),
-            &[
-                ("path", opt_str(py, path.map(|p| p.display().to_string()))),
-                ("line", opt_int(py, line)),
-            ],
+            &[("path", opt_str(py, path.map(|p| p.display().to_string()))), ("line", opt_int(py, line))],
         )
     })
 }

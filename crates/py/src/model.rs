@@ -20,7 +20,10 @@ fn entity_names(v: &mut serde_json::Value) {
     use serde_json::Value;
     match v {
         Value::Object(map) => {
-            let is_ref = map.len() == 3 && map.contains_key("format") && map.contains_key("id") && map.contains_key("occurrence");
+            let is_ref = map.len() == 3
+                && map.contains_key("format")
+                && map.contains_key("id")
+                && map.contains_key("occurrence");
             if is_ref {
                 let id = map["id"].as_u64().unwrap_or(0);
                 let occurrence = map["occurrence"].as_u64().unwrap_or(0);
@@ -154,18 +157,18 @@ impl PyModel {
     /// (u-major: row `i·n_v + j` is pole (i, j)).
     fn control_points<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let faces = self.model.patches();
-        let face = faces.get(index).ok_or_else(|| {
-            PyValueError::new_err(format!("index: the model has {} faces, got {index}", faces.len()))
-        })?;
+        let face = faces
+            .get(index)
+            .ok_or_else(|| PyValueError::new_err(format!("index: the model has {} faces, got {index}", faces.len())))?;
         points_to_array(py, face.surface.control_points())
     }
 
     /// The weights of face `index`, an (n_u·n_v,) array (all 1 for a non-rational face).
     fn weights<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
         let faces = self.model.patches();
-        let face = faces.get(index).ok_or_else(|| {
-            PyValueError::new_err(format!("index: the model has {} faces, got {index}", faces.len()))
-        })?;
+        let face = faces
+            .get(index)
+            .ok_or_else(|| PyValueError::new_err(format!("index: the model has {} faces, got {index}", faces.len())))?;
         let s = &face.surface;
         let n = s.control_points().len();
         let w: Vec<f64> = match s.weights() {

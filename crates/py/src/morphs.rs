@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
-use cadmorph::morph::math::{Matrix3, Point3, Vector3};
 use cadmorph::morph::ffd::FACE_TOL;
+use cadmorph::morph::math::{Matrix3, Point3, Vector3};
 use cadmorph::morph::rbf::Kernel;
 use cadmorph::morph::{Affine, Deformation, Ffd, Idw, IdwParameters, IdwVariant, Parameters, Rbf, RbfParameters};
 use numpy::ndarray::Array3;
@@ -16,7 +16,10 @@ use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use rayon::prelude::*;
 
-use crate::arrays::{as_points, as_points_mut, first_non_finite, non_finite_err, points_to_array, points_vec, points_view, three, to_array};
+use crate::arrays::{
+    as_points, as_points_mut, first_non_finite, non_finite_err, points_to_array, points_vec, points_view, three,
+    to_array,
+};
 use crate::errors::morph_err;
 
 /// Points handled by one task of the parallel copy-check-deform loop: the morph's own
@@ -69,6 +72,7 @@ impl PyFunction {
 
 /// Every deformation the bindings know, as one type the model and the arrays can take.
 #[derive(Clone)]
+#[allow(clippy::large_enum_variant)] // one per call; boxing the Ffd would only add an indirection
 pub(crate) enum Morph {
     Ffd(Ffd),
     Rbf(Arc<Rbf>),
@@ -223,14 +227,10 @@ pub(crate) fn apply<'py>(
             } else {
                 let mut rw = out_arr.try_readwrite().map_err(|e| PyValueError::new_err(format!("points: {e}")))?;
                 let dst = rw.as_slice_mut().map_err(|e| PyValueError::new_err(format!("points: {e}")))?;
-                // Checked before anything moves, so that a refused array is left as it was.
-                let mut run = || match check_parallel(dst) {
-                    Some(at) => Err(at),
-                    None => {
-                        morph.deform(as_points_mut(dst));
-                        Ok(())
-                    }
-                };
+                // Checked chunk by chunk just before each chunk is deformed (one pass over
+                // memory, as fast as the Rust call): a non-finite value is reported, and the
+                // finite points have moved meanwhile (see the docs of `deform`).
+                let mut run = || check_deform_in_place(morph, dst, python);
                 let result = if python { run() } else { py.detach(run) };
                 if let Err(at) = result {
                     let v = dst[at.0 * 3 + at.1];
@@ -245,16 +245,29 @@ pub(crate) fn apply<'py>(
     }
 }
 
-/// The first non-finite value's position, scanning in parallel.
-fn check_parallel(flat: &[f64]) -> Option<(usize, usize)> {
-    let first = AtomicUsize::new(usize::MAX);
-    flat.par_chunks(CHUNK * 3).enumerate().for_each(|(c, s)| {
-        if let Some(i) = s.iter().position(|v| !v.is_finite()) {
-            first.fetch_min(c * CHUNK * 3 + i, Ordering::Relaxed);
+/// `morph` applied to `flat` in place, each chunk checked for non-finite values just before
+/// it is deformed (in parallel; on this thread when the morph calls Python, after checking
+/// everything). `Err` is the first non-finite value; chunks holding one are not deformed.
+fn check_deform_in_place(morph: &Morph, flat: &mut [f64], sequential: bool) -> Result<(), (usize, usize)> {
+    if sequential || flat.len() < 2 * CHUNK * 3 {
+        if let Some(at) = first_non_finite(flat) {
+            return Err(at);
         }
+        morph.deform(as_points_mut(flat));
+        return Ok(());
+    }
+    let first = AtomicUsize::new(usize::MAX);
+    flat.par_chunks_mut(CHUNK * 3).enumerate().for_each(|(c, d)| {
+        if let Some(i) = d.iter().position(|v| !v.is_finite()) {
+            first.fetch_min(c * CHUNK * 3 + i, Ordering::Relaxed);
+            return;
+        }
+        morph.deform(as_points_mut(d));
     });
-    let i = first.into_inner();
-    (i != usize::MAX).then_some((i / 3, i % 3))
+    match first.into_inner() {
+        usize::MAX => Ok(()),
+        i => Err((i / 3, i % 3)),
+    }
 }
 
 /// A new buffer holding `morph(src)`: copied, checked and deformed chunk by chunk in
@@ -397,9 +410,9 @@ fn mu_array<'py>(py: Python<'py>, ffd: &Ffd, c: usize) -> Bound<'py, PyArray3<f6
 }
 
 fn set_mu_component(ffd: &mut Ffd, c: usize, value: &Bound<'_, PyAny>, name: &str) -> PyResult<()> {
-    let arr: PyReadonlyArray3<'_, f64> = value.extract().map_err(|_| {
-        PyTypeError::new_err(format!("{name} must be a float64 numpy array of shape (L, M, N)"))
-    })?;
+    let arr: PyReadonlyArray3<'_, f64> = value
+        .extract()
+        .map_err(|_| PyTypeError::new_err(format!("{name} must be a float64 numpy array of shape (L, M, N)")))?;
     let shape = ffd.n_control_points();
     if arr.shape() != shape {
         return Err(PyValueError::new_err(format!("{name} must have shape {shape:?}, got {:?}", arr.shape())));
@@ -534,6 +547,11 @@ impl PyFfd {
 
     /// The deformed copy of `points` ((n, 3) float64, C-contiguous); with `out`, the result
     /// is written there (`out=points` morphs in place) and `out` is returned.
+    ///
+    /// A NaN or infinite coordinate raises `ValueError` naming it. The new array or another
+    /// `out` is then not returned; in place (`out=points`) the check runs chunk by chunk as
+    /// the morph goes (no second pass over memory), so the finite points of other chunks
+    /// may have moved when the error is raised.
     #[pyo3(signature = (points, out = None))]
     fn deform<'py>(&self, points: &Bound<'py, PyAny>, out: Option<&Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyAny>> {
         apply(&Morph::Ffd(self.inner.clone()), points, out)
@@ -541,7 +559,11 @@ impl PyFfd {
 
     /// `ffd(points)` is `ffd.deform(points)`.
     #[pyo3(signature = (points, out = None))]
-    fn __call__<'py>(&self, points: &Bound<'py, PyAny>, out: Option<&Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyAny>> {
+    fn __call__<'py>(
+        &self,
+        points: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         self.deform(points, out)
     }
 
@@ -685,7 +707,8 @@ impl PyRbf {
     /// The control points after the deformation, (n, 3).
     #[getter]
     fn deformed_control_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let p: Vec<Point3<f64>> = self.inner.centres().iter().zip(self.inner.displacements()).map(|(c, d)| c + d).collect();
+        let p: Vec<Point3<f64>> =
+            self.inner.centres().iter().zip(self.inner.displacements()).map(|(c, d)| c + d).collect();
         points_to_array(py, &p)
     }
 
@@ -710,7 +733,11 @@ impl PyRbf {
 
     /// `rbf(points)` is `rbf.deform(points)`.
     #[pyo3(signature = (points, out = None))]
-    fn __call__<'py>(&self, points: &Bound<'py, PyAny>, out: Option<&Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyAny>> {
+    fn __call__<'py>(
+        &self,
+        points: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         self.deform(points, out)
     }
 
@@ -748,7 +775,12 @@ impl PyRbf {
     }
 
     fn __repr__(&self) -> String {
-        format!("Rbf(kernel={:?}, radius={}, n_control_points={})", self.kernel(), self.radius(), self.inner.centres().len())
+        format!(
+            "Rbf(kernel={:?}, radius={}, n_control_points={})",
+            self.kernel(),
+            self.radius(),
+            self.inner.centres().len()
+        )
     }
 }
 
@@ -791,7 +823,9 @@ impl PyIdw {
                 }
                 IdwVariant::PyGem { power: power as u32 }
             }
-            other => return Err(PyValueError::new_err(format!("variant must be \"paper\" or \"pygem\", got {other:?}"))),
+            other => {
+                return Err(PyValueError::new_err(format!("variant must be \"paper\" or \"pygem\", got {other:?}")))
+            }
         };
         let idw = Idw::try_new(&orig, &d, variant).map_err(|e| morph_err(e, None))?;
         Ok(PyIdw { inner: Arc::new(idw) })
@@ -833,7 +867,8 @@ impl PyIdw {
     /// The control points after the deformation, (n, 3).
     #[getter]
     fn deformed_control_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let p: Vec<Point3<f64>> = self.inner.centres().iter().zip(self.inner.displacements()).map(|(c, d)| c + d).collect();
+        let p: Vec<Point3<f64>> =
+            self.inner.centres().iter().zip(self.inner.displacements()).map(|(c, d)| c + d).collect();
         points_to_array(py, &p)
     }
 
@@ -845,7 +880,11 @@ impl PyIdw {
 
     /// `idw(points)` is `idw.deform(points)`.
     #[pyo3(signature = (points, out = None))]
-    fn __call__<'py>(&self, points: &Bound<'py, PyAny>, out: Option<&Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyAny>> {
+    fn __call__<'py>(
+        &self,
+        points: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         self.deform(points, out)
     }
 
@@ -883,7 +922,12 @@ impl PyIdw {
     }
 
     fn __repr__(&self) -> String {
-        format!("Idw(variant={:?}, power={}, n_control_points={})", self.variant(), self.power(), self.inner.centres().len())
+        format!(
+            "Idw(variant={:?}, power={}, n_control_points={})",
+            self.variant(),
+            self.power(),
+            self.inner.centres().len()
+        )
     }
 }
 
@@ -957,7 +1001,11 @@ impl PyAffine {
 
     /// `a(points)` is `a.deform(points)`.
     #[pyo3(signature = (points, out = None))]
-    fn __call__<'py>(&self, points: &Bound<'py, PyAny>, out: Option<&Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyAny>> {
+    fn __call__<'py>(
+        &self,
+        points: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         self.deform(points, out)
     }
 
@@ -996,7 +1044,11 @@ impl PyComposed {
 
     /// `c(points)` is `c.deform(points)`.
     #[pyo3(signature = (points, out = None))]
-    fn __call__<'py>(&self, points: &Bound<'py, PyAny>, out: Option<&Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyAny>> {
+    fn __call__<'py>(
+        &self,
+        points: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         self.deform(points, out)
     }
 
@@ -1039,7 +1091,11 @@ impl PyFromFunction {
 
     /// `f(points)` is `f.deform(points)`.
     #[pyo3(signature = (points, out = None))]
-    fn __call__<'py>(&self, points: &Bound<'py, PyAny>, out: Option<&Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyAny>> {
+    fn __call__<'py>(
+        &self,
+        points: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         self.deform(points, out)
     }
 
