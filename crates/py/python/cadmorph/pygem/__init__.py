@@ -28,6 +28,10 @@ Where cadmorph differs from PyGeM, on purpose:
 * **Bad input.** Points with NaN, arrays of another shape or dtype raise
   ``ValueError``/``TypeError`` naming the argument (PyGeM computes on).
 * ``dtype`` other than ``fp64`` is not offered: the Rust implementation is float64.
+* ``RBF.basis`` is the kernel's name (PyGeM: the kernel function from ``RBFFactory``);
+  ``RBF.weights`` is computed by the Rust solve, in PyGeM's layout.
+* ``pygem.cad`` needs no pythonocc and takes no ``TopoDS_Shape``: it takes a file name or a
+  :class:`cadmorph.Model` (see :mod:`cadmorph.pygem.cad`).
 """
 
 import copy as _copy
