@@ -8,7 +8,9 @@
 
 pub mod error;
 pub mod gauss;
+pub mod keep;
 pub mod volume;
 
 pub use error::{Error, Result};
+pub use keep::{keep, Keep, KeepReport};
 pub use volume::{enclosed, Enclosed, FaceMethod, Moments};
