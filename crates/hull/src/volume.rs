@@ -362,10 +362,20 @@ pub(crate) fn face_sign(face: &Face) -> f64 {
 /// [`Error::NotClosed`] when the signed volume vanishes.
 pub fn enclosed(faces: &[Face], bounds: &[BoundCurve], size: f64) -> Result<Enclosed> {
     let by_face = bounds_by_face(faces.len(), bounds);
-    let mut methods = Vec::with_capacity(faces.len());
+    let methods = faces.iter().zip(&by_face).map(|(f, fb)| face_method(f, fb, size)).collect::<Result<Vec<_>>>()?;
+    enclosed_with(faces, bounds, size, &methods)
+}
+
+/// [`enclosed`] with each face's method already known (faces moved by a morph keep the
+/// methods of the faces they came from, which saves telling them apart again).
+///
+/// # Errors
+///
+/// As [`enclosed`].
+pub fn enclosed_with(faces: &[Face], bounds: &[BoundCurve], size: f64, methods: &[FaceMethod]) -> Result<Enclosed> {
+    let by_face = bounds_by_face(faces.len(), bounds);
     let mut shares = Vec::with_capacity(faces.len());
-    for (face, fb) in faces.iter().zip(&by_face) {
-        let method = face_method(face, fb, size)?;
+    for ((face, fb), method) in faces.iter().zip(&by_face).zip(methods) {
         let sign = face_sign(face);
         let share = match method {
             FaceMethod::Natural => natural_moments(&face.surface, sign),
@@ -377,7 +387,6 @@ pub fn enclosed(faces: &[Face], bounds: &[BoundCurve], size: f64) -> Result<Encl
                 planar_moments(face, fb, o, n, sign, 1e-6 * size)?
             }
         };
-        methods.push(method);
         shares.push(share);
     }
     let mut total = Moments { volume: 0.0, moment: [0.0; 3] };
@@ -390,7 +399,7 @@ pub fn enclosed(faces: &[Face], bounds: &[BoundCurve], size: f64) -> Result<Encl
     let orientation = total.volume.signum();
     Ok(Enclosed {
         total: total.scaled(orientation),
-        methods,
+        methods: methods.to_vec(),
         faces: shares.iter().map(|s| s.scaled(orientation)).collect(),
         orientation,
     })
