@@ -1,12 +1,12 @@
-//! `cadmorph hull ...` (exact volume and centroid of a closed model) and the hook of
+//! `cadmorph hull volume|dims` (exact volume and centroid of a closed model, LCB shift) and the hook of
 //! `cadmorph morph --ffd P --keep-volume --keep-barycentre`.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
-use cadmorph::model::Model;
+use cadmorph::model::{Model, MorphOptions, Staged};
 use cadmorph::morph::{Deformation, Ffd, LinearInParameters, Parameters};
-use cadmorph_hull::{enclosed, keep, Keep, KeepReport};
+use cadmorph_hull::{enclosed, keep, lcb_shift, Keep, KeepReport};
 
 /// `cadmorph hull` subcommands.
 #[derive(clap::Subcommand)]
@@ -17,6 +17,22 @@ pub enum HullCommand {
         /// The input IGES or STEP file.
         input: PathBuf,
         /// Print the result as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Principal-dimension changes of a closed hull: a Lackenby-style shift of the
+    /// longitudinal centre of buoyancy (sections moved along x, volume kept).
+    Dims {
+        /// The input IGES or STEP file (a closed hull, x along the length).
+        input: PathBuf,
+        /// Move the LCB (the centroid of the enclosed volume) by this much along +x,
+        /// model units.
+        #[arg(long, allow_hyphen_values = true)]
+        lcb_shift: f64,
+        /// The output file (its extension names the format).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Print the report as JSON.
         #[arg(long)]
         json: bool,
     },
@@ -52,6 +68,35 @@ pub fn run(cmd: HullCommand) -> Result<()> {
                     c.z,
                     e.methods.len(),
                     e.methods.iter().filter(|k| **k == cadmorph_hull::FaceMethod::Planar).count()
+                );
+            }
+            Ok(())
+        }
+        HullCommand::Dims { input, lcb_shift: dx, output, json } => {
+            let format = cadmorph::Format::from_extension(&output)
+                .ok_or_else(|| cadmorph::Error::UnknownExtension { path: output.clone() })?;
+            let mut m = cadmorph::open(&input)?;
+            crate::skipped::check(&m.info().skipped, false)?;
+            let (shift, report) = lcb_shift(m.patches(), m.bound_curves(), m.size(), dx)
+                .with_context(|| format!("shifting the LCB of {}; nothing written", input.display()))?;
+            m.morph(&shift, &MorphOptions::default()).with_context(|| format!("morphing {}", input.display()))?;
+            let bytes = if format == m.format() { m.to_bytes() } else { cadmorph::convert(&m, format)?.to_bytes() };
+            Staged::new(&output, &bytes)?.commit()?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&report)?);
+            } else {
+                println!(
+                    "{} -> {}: LCB {:.9} -> {:.9} {} (asked {:+}, reached {:+.3e}), volume change {:+.3e} relative; shift a = {:.6}, b = {:.6}",
+                    input.display(),
+                    output.display(),
+                    report.before.centroid().x,
+                    report.after.centroid().x,
+                    m.unit(),
+                    dx,
+                    report.reached,
+                    (report.after.volume - report.before.volume) / report.before.volume,
+                    shift.a,
+                    shift.b
                 );
             }
             Ok(())
