@@ -198,7 +198,7 @@ pub fn keep(
         for (k, p) in faces[mv.face].surface.control_points().iter().enumerate() {
             if let Some(j) = result.jacobian(p) {
                 let det = j.determinant();
-                if !(det > 0.0) {
+                if det.is_nan() || det <= 0.0 {
                     return Err(cadmorph_morph::Error::Infeasible(format!(
                         "the constrained lattice folds (Jacobian determinant {det:.3e} at control point {k} of face {}): the asked volume or barycentre is out of the free lattice points' reach",
                         faces[mv.face].entity

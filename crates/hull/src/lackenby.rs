@@ -156,7 +156,8 @@ pub fn lcb_shift(faces: &[Face], bounds: &[BoundCurve], size: f64, dx: f64) -> R
                 iterations: it,
             };
             // No section may overtake its neighbour: 1 + δx' > 0 along the length.
-            let worst = (0..=200).map(|k| 1.0 + shift.slope(x_aft + length * k as f64 / 200.0)).fold(f64::INFINITY, f64::min);
+            let worst =
+                (0..=200).map(|k| 1.0 + shift.slope(x_aft + length * k as f64 / 200.0)).fold(f64::INFINITY, f64::min);
             if worst <= 0.0 {
                 return Err(Error::Invalid(format!(
                     "an LCB shift of {dx} needs sections to overtake each other (dδx/dx = {:.3}): too large for a hull of length {length}",
@@ -175,12 +176,17 @@ pub fn lcb_shift(faces: &[Face], bounds: &[BoundCurve], size: f64, dx: f64) -> R
         let ja = d(h, 0.0)?;
         let jb = d(0.0, h)?;
         let j = Matrix2::from_columns(&[ja, jb]);
-        let step = j.lu().solve(&(-c)).ok_or_else(|| Error::Invalid("the section shift cannot change the LCB (singular Jacobian)".into()))?;
+        let step = j
+            .lu()
+            .solve(&(-c))
+            .ok_or_else(|| Error::Invalid("the section shift cannot change the LCB (singular Jacobian)".into()))?;
         a += step.x;
         b += step.y;
         if !(a.is_finite() && b.is_finite()) {
             break;
         }
     }
-    Err(Error::Invalid(format!("no section shift moving the LCB by {dx} with the volume kept was found (Newton did not converge)")))
+    Err(Error::Invalid(format!(
+        "no section shift moving the LCB by {dx} with the volume kept was found (Newton did not converge)"
+    )))
 }

@@ -296,7 +296,14 @@ fn loop_integrals(lp: &[Piece], o: &Point3<f64>, e1: &Vector3<f64>, e2: &Vector3
 }
 
 /// The share of a planar trimmed face, `sign` turning the surface normal outward.
-fn planar_moments(face: &Face, bounds: &[&BoundCurve], o: Point3<f64>, n: Vector3<f64>, sign: f64, tol: f64) -> Result<Moments> {
+fn planar_moments(
+    face: &Face,
+    bounds: &[&BoundCurve],
+    o: Point3<f64>,
+    n: Vector3<f64>,
+    sign: f64,
+    tol: f64,
+) -> Result<Moments> {
     let e1 = {
         let a = if n.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() };
         (a - n * a.dot(&n)).normalize()
@@ -331,7 +338,7 @@ pub fn face_method(face: &Face, bounds: &[&BoundCurve], size: f64) -> Result<Fac
 }
 
 /// The bounding curves of each face, by face index.
-pub fn bounds_by_face<'a>(n_faces: usize, bounds: &'a [BoundCurve]) -> Vec<Vec<&'a BoundCurve>> {
+pub fn bounds_by_face(n_faces: usize, bounds: &[BoundCurve]) -> Vec<Vec<&BoundCurve>> {
     let mut out = vec![Vec::new(); n_faces];
     for b in bounds {
         if b.face < n_faces {
@@ -380,10 +387,8 @@ pub fn enclosed_with(faces: &[Face], bounds: &[BoundCurve], size: f64, methods: 
         let share = match method {
             FaceMethod::Natural => natural_moments(&face.surface, sign),
             FaceMethod::Planar => {
-                let (o, n) = plane_of(&face.surface).ok_or_else(|| Error::TrimmedFace {
-                    face: face.entity,
-                    kind: face.type_name.clone(),
-                })?;
+                let (o, n) = plane_of(&face.surface)
+                    .ok_or_else(|| Error::TrimmedFace { face: face.entity, kind: face.type_name.clone() })?;
                 planar_moments(face, fb, o, n, sign, 1e-6 * size)?
             }
         };
@@ -393,7 +398,7 @@ pub fn enclosed_with(faces: &[Face], bounds: &[BoundCurve], size: f64, methods: 
     for s in &shares {
         total.add(s);
     }
-    if !(total.volume.abs() > 1e-12 * size.powi(3)) {
+    if total.volume.is_nan() || total.volume.abs() <= 1e-12 * size.powi(3) {
         return Err(Error::NotClosed { volume: total.volume });
     }
     let orientation = total.volume.signum();
@@ -426,7 +431,10 @@ mod tests {
         ];
         let s = NurbsSurface::try_new(
             (2, 1),
-            (KnotVector::try_new(vec![0., 0., 0., 1., 1., 1.]).unwrap(), KnotVector::try_new(vec![0., 0., 1., 1.]).unwrap()),
+            (
+                KnotVector::try_new(vec![0., 0., 0., 1., 1., 1.]).unwrap(),
+                KnotVector::try_new(vec![0., 0., 1., 1.]).unwrap(),
+            ),
             (3, 2),
             pts,
             Some(vec![1.0, 1.0, w, w, 1.0, 1.0]),

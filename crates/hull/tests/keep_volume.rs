@@ -19,7 +19,8 @@ fn hull() -> StepModel {
 /// A 3×3×3 lattice over the bow's bottom (x 7 .. 10.5, z −0.3 .. 0.9): the two middle
 /// nodes of the front face pushed forward and down, a bulb.
 fn bulb() -> (Ffd, Vec<bool>) {
-    let mut ffd = Ffd::try_new([3, 3, 3], Point3::new(7.0, -1.5, -0.3), Vector3::new(3.5, 3.0, 1.2), Vector3::zeros()).unwrap();
+    let mut ffd =
+        Ffd::try_new([3, 3, 3], Point3::new(7.0, -1.5, -0.3), Vector3::new(3.5, 3.0, 1.2), Vector3::zeros()).unwrap();
     ffd.mu_mut().set(2, 1, 0, [0.12, 0.0, -0.15]);
     ffd.mu_mut().set(2, 1, 1, [0.10, 0.0, -0.05]);
     // Free: the nodes the user moved (the others keep the lattice joined to the hull).
@@ -57,7 +58,10 @@ fn keep_volume_on_the_morphed_faces() {
     m.morph(&kept, &MorphOptions::default()).unwrap();
     let after = enclosed(m.patches(), m.bound_curves(), m.size()).unwrap().total.volume;
     let rel = (after - v0).abs() / v0;
-    eprintln!("bulb: unconstrained ΔV/V {raw:.3e}, kept {rel:.3e}, |Δμ| {:.4}, {} Newton steps", report.change, report.iterations);
+    eprintln!(
+        "bulb: unconstrained ΔV/V {raw:.3e}, kept {rel:.3e}, |Δμ| {:.4}, {} Newton steps",
+        report.change, report.iterations
+    );
     assert!(rel <= 1e-12, "{rel:e}");
 }
 
@@ -124,11 +128,13 @@ fn impossible_constraints_fail_clearly() {
     let e = keep(m.patches(), m.bound_curves(), m.size(), &ffd, what, Some(&none)).unwrap_err();
     assert!(e.to_string().contains("every displacement is fixed"), "{e}");
     // Halving the hull's volume with two bow nodes: out of reach.
-    let e = keep(m.patches(), m.bound_curves(), m.size(), &ffd, Keep { volume_factor: 0.5, ..what }, Some(&free)).unwrap_err();
+    let e = keep(m.patches(), m.bound_curves(), m.size(), &ffd, Keep { volume_factor: 0.5, ..what }, Some(&free))
+        .unwrap_err();
     assert!(matches!(e, Error::Constraint(cadmorph_morph::Error::Infeasible(_))), "{e}");
     eprintln!("{e}");
     // A lattice reaching the transom (a trimmed plane).
-    let mut aft = Ffd::try_new([2, 2, 2], Point3::new(-0.5, -2.0, -0.5), Vector3::new(2.0, 4.0, 3.0), Vector3::zeros()).unwrap();
+    let mut aft =
+        Ffd::try_new([2, 2, 2], Point3::new(-0.5, -2.0, -0.5), Vector3::new(2.0, 4.0, 3.0), Vector3::zeros()).unwrap();
     aft.mu_mut().set(1, 1, 1, [0.1, 0.0, 0.0]);
     let e = keep(m.patches(), m.bound_curves(), m.size(), &aft, what, None).unwrap_err();
     assert!(matches!(e, Error::MovesTrimmedFace { .. }), "{e}");

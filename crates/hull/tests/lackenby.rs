@@ -28,7 +28,10 @@ fn lcb_moves_by_the_asked_amount_with_the_volume_kept() {
     for dx in [0.02, -0.015] {
         let (_, r) = lcb_shift(m.patches(), m.bound_curves(), m.size(), dx).unwrap();
         let dv = (r.after.volume - r.before.volume).abs() / r.before.volume;
-        eprintln!("asked {dx}, reached {:.12}, ΔV/V {dv:.2e}, a {:.6} b {:.6}, {} steps", r.reached, r.shift.a, r.shift.b, r.iterations);
+        eprintln!(
+            "asked {dx}, reached {:.12}, ΔV/V {dv:.2e}, a {:.6} b {:.6}, {} steps",
+            r.reached, r.shift.a, r.shift.b, r.iterations
+        );
         assert!((r.reached - dx).abs() <= 1e-10 * LENGTH);
         assert!(dv <= 1e-12);
     }

@@ -11,14 +11,13 @@ use cadmorph_testkit::{harness, sample};
 
 fn open(path: &Path) -> Enclosed {
     let bytes = std::fs::read(path).unwrap();
-    let e = if bytes.starts_with(b"ISO-10303-21") {
+    if bytes.starts_with(b"ISO-10303-21") {
         let m: Model<cadmorph_step::Document> = Model::from_bytes(&bytes).unwrap();
         of(&m)
     } else {
         let m: Model<cadmorph_iges::Document> = Model::from_bytes(&bytes).unwrap();
         of(&m)
-    };
-    e
+    }
 }
 
 fn of<D: CadDocument>(m: &Model<D>) -> Enclosed {
@@ -47,7 +46,12 @@ fn compare(path: &Path, rel: f64) -> Enclosed {
     let (v, c) = occt_volume(path);
     let err = (ours.total.volume - v).abs() / v;
     let centroid = ours.total.centroid();
-    eprintln!("{}: cadmorph {:.15e}, OCCT {:.15e}, relative {err:.2e}; centroid {centroid:?} vs {c:?}", path.display(), ours.total.volume, v);
+    eprintln!(
+        "{}: cadmorph {:.15e}, OCCT {:.15e}, relative {err:.2e}; centroid {centroid:?} vs {c:?}",
+        path.display(),
+        ours.total.volume,
+        v
+    );
     assert!(err <= rel, "{}: relative volume difference {err:e}", path.display());
     let scale = v.cbrt();
     for k in 0..3 {
@@ -60,10 +64,8 @@ fn compare(path: &Path, rel: f64) -> Enclosed {
 /// them again), so that plain `cargo test` checks the integration too.
 #[test]
 fn recorded_occt_volumes() {
-    for (name, occt, planar) in [
-        ("planing_hull.stp", 40.41889533333262, 2),
-        ("mixed_solid.stp", 33515.302782352825, 4),
-    ] {
+    for (name, occt, planar) in [("planing_hull.stp", 40.41889533333262, 2), ("mixed_solid.stp", 33515.302782352825, 4)]
+    {
         let e = open(&sample(name));
         let err = (e.total.volume - occt).abs() / occt;
         assert!(err <= 1e-8, "{name}: {} vs OCCT {occt} ({err:e})", e.total.volume);

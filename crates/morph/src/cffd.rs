@@ -104,7 +104,12 @@ impl TriangleVolume {
     /// [`Error::CountMismatch`] when an index is not below `n_points`.
     pub fn try_new(triangles: Vec<[usize; 3]>, n_points: usize) -> Result<Self> {
         if let Some(&bad) = triangles.iter().flatten().find(|&&i| i >= n_points) {
-            return Err(Error::CountMismatch { line: 0, what: "triangle vertex index below the point count", expected: n_points, found: bad });
+            return Err(Error::CountMismatch {
+                line: 0,
+                what: "triangle vertex index below the point count",
+                expected: n_points,
+                found: bad,
+            });
         }
         Ok(TriangleVolume { triangles })
     }
@@ -140,7 +145,12 @@ impl PointFunction for TriangleVolume {
 }
 
 /// `∂F(φ(points))/∂θ`: values × [`Ffd::n_params`], at the current displacements.
-pub fn param_jacobian(ffd: &Ffd, points: &[Point3<f64>], deformed: &[Point3<f64>], f: &dyn PointFunction) -> DMatrix<f64> {
+pub fn param_jacobian(
+    ffd: &Ffd,
+    points: &[Point3<f64>],
+    deformed: &[Point3<f64>],
+    f: &dyn PointFunction,
+) -> DMatrix<f64> {
     let jf = f.jacobian(deformed);
     let mut a = DMatrix::zeros(f.len(), ffd.n_params());
     for (p, x) in points.iter().enumerate() {
@@ -170,11 +180,21 @@ fn deformed(ffd: &Ffd, points: &[Point3<f64>]) -> Vec<Point3<f64>> {
 
 fn check(ffd: &Ffd, f: &dyn PointFunction, target: &[f64], free: Option<&[bool]>) -> Result<()> {
     if target.len() != f.len() {
-        return Err(Error::CountMismatch { line: 0, what: "constraint values", expected: f.len(), found: target.len() });
+        return Err(Error::CountMismatch {
+            line: 0,
+            what: "constraint values",
+            expected: f.len(),
+            found: target.len(),
+        });
     }
     if let Some(m) = free {
         if m.len() != ffd.n_params() {
-            return Err(Error::CountMismatch { line: 0, what: "mask entries", expected: ffd.n_params(), found: m.len() });
+            return Err(Error::CountMismatch {
+                line: 0,
+                what: "mask entries",
+                expected: ffd.n_params(),
+                found: m.len(),
+            });
         }
     }
     Ok(())

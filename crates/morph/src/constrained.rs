@@ -34,7 +34,9 @@ fn multipliers(a: &DMatrix<f64>, metric: &[f64], r: &DVector<f64>, what: &str) -
         return Ok(DVector::zeros(0));
     }
     if metric.iter().all(|&m| m == 0.0) {
-        return Err(Error::Infeasible(format!("every displacement is fixed: no free lattice point can change the {what}")));
+        return Err(Error::Infeasible(format!(
+            "every displacement is fixed: no free lattice point can change the {what}"
+        )));
     }
     let svd = g.clone().svd(true, true);
     let smax = svd.singular_values.max();
@@ -58,7 +60,12 @@ fn check_metric(n: usize, metric: &[f64]) -> Result<()> {
         return Err(Error::CountMismatch { line: 0, what: "metric entries", expected: n, found: metric.len() });
     }
     if let Some(&m) = metric.iter().find(|m| !(m.is_finite() && **m >= 0.0)) {
-        return Err(Error::InvalidParameter { line: None, name: "metric", value: m, reason: "must be finite and non-negative" });
+        return Err(Error::InvalidParameter {
+            line: None,
+            name: "metric",
+            value: m,
+            reason: "must be finite and non-negative",
+        });
     }
     Ok(())
 }
@@ -147,7 +154,12 @@ pub fn nearest_nonlinear(
     for it in 0..=opts.max_iter {
         let (c, j) = constraint(current.as_slice())?;
         if j.ncols() != n || j.nrows() != c.len() || scale.len() != c.len() {
-            return Err(Error::CountMismatch { line: 0, what: "constraint Jacobian columns", expected: n, found: j.ncols() });
+            return Err(Error::CountMismatch {
+                line: 0,
+                what: "constraint Jacobian columns",
+                expected: n,
+                found: j.ncols(),
+            });
         }
         let residual = c.iter().zip(scale).map(|(ci, s)| ci.abs() / s).fold(0.0, f64::max);
         if !residual.is_finite() {

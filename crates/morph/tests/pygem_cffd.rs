@@ -20,10 +20,14 @@ fn floats(v: &Value) -> Vec<f64> {
 }
 
 fn points(v: &Value) -> Vec<Point3<f64>> {
-    v.as_array().unwrap().iter().map(|p| {
-        let f = floats(p);
-        Point3::new(f[0], f[1], f[2])
-    }).collect()
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|p| {
+            let f = floats(p);
+            Point3::new(f[0], f[1], f[2])
+        })
+        .collect()
 }
 
 fn vec3(v: &Value) -> Vector3<f64> {
@@ -33,8 +37,15 @@ fn vec3(v: &Value) -> Vector3<f64> {
 
 fn lattice(case: &Value) -> Ffd {
     let b = &case["box"];
-    let n: Vec<usize> = b["n_control_points"].as_array().unwrap().iter().map(|x| x.as_u64().unwrap() as usize).collect();
-    let mut ffd = Ffd::try_new([n[0], n[1], n[2]], Point3::from(vec3(&b["box_origin"])), vec3(&b["box_length"]), vec3(&b["rot_angle"])).unwrap();
+    let n: Vec<usize> =
+        b["n_control_points"].as_array().unwrap().iter().map(|x| x.as_u64().unwrap() as usize).collect();
+    let mut ffd = Ffd::try_new(
+        [n[0], n[1], n[2]],
+        Point3::from(vec3(&b["box_origin"])),
+        vec3(&b["box_length"]),
+        vec3(&b["rot_angle"]),
+    )
+    .unwrap();
     let m = &case["mu_before"];
     ffd.set_params(&[floats(&m["x"]), floats(&m["y"]), floats(&m["z"])].concat()).unwrap();
     ffd
@@ -48,10 +59,15 @@ fn function(case: &Value, n_points: usize) -> Box<dyn PointFunction> {
         }
         "barycentre" => Box::new(Barycentre),
         "volume" => {
-            let t: Vec<[usize; 3]> = case["triangles"].as_array().unwrap().iter().map(|t| {
-                let f = floats(t);
-                [f[0] as usize, f[1] as usize, f[2] as usize]
-            }).collect();
+            let t: Vec<[usize; 3]> = case["triangles"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|t| {
+                    let f = floats(t);
+                    [f[0] as usize, f[1] as usize, f[2] as usize]
+                })
+                .collect();
             Box::new(TriangleVolume::try_new(t, n_points).unwrap())
         }
         other => panic!("unknown case kind {other}"),
@@ -162,8 +178,8 @@ fn all_fixed_is_refused() {
     let fixed = vec![false; ffd.n_params()];
     let e = pygem_adjust(&mut ffd, &pts, &Barycentre, &target, Some(&fixed)).unwrap_err();
     assert!(matches!(e, Error::Infeasible(_)) && e.to_string().contains("fixed"), "{e}");
-    let e = nearest(&mut ffd, &pts, &Barycentre, &target, &vec![0.0; before.n_params()], NewtonOptions::default()).unwrap_err();
+    let e = nearest(&mut ffd, &pts, &Barycentre, &target, &vec![0.0; before.n_params()], NewtonOptions::default())
+        .unwrap_err();
     assert!(e.to_string().contains("every displacement is fixed"), "{e}");
     assert_eq!(ffd, before, "a refused constraint leaves the lattice as it was");
 }
-
