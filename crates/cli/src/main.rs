@@ -16,6 +16,7 @@ mod eval;
 mod faces;
 mod ffd;
 mod grid;
+mod hull;
 mod info;
 mod limits;
 mod mesh;
@@ -72,6 +73,9 @@ enum Command {
     Seams(seams::Args),
     /// Morph every face with an FFD, RBF or IDW, keep the seams, write the result.
     Morph(morph::Args),
+    /// Hull laws and enclosed-volume measures.
+    #[command(subcommand)]
+    Hull(hull::HullCommand),
     /// Insert knots: evenly spaced, or where a morph needs them to keep the seams.
     Refine(refine::Args),
     /// Write an IGES file as STEP or a STEP file as IGES (the format of the output's
@@ -126,6 +130,7 @@ fn main() -> ExitCode {
         Command::Sample(a) => sample::run(a),
         Command::Seams(a) => seams::run(a),
         Command::Morph(a) => morph::run(a),
+        Command::Hull(cmd) => hull::run(cmd),
         Command::Refine(a) => refine::run(a),
         Command::Convert(a) => convert::run(a),
         Command::Eval(a) => eval::run(a),

@@ -87,6 +87,14 @@ pub struct Args {
     /// error); without it, a file with faces that cannot be converted is refused.
     #[arg(long)]
     skip_unsupported: bool,
+    /// With --ffd: correct the displacements of the nodes the file moves to the nearest
+    /// ones that keep the enclosed volume of the closed model (exact; fails before
+    /// writing when they cannot).
+    #[arg(long, requires = "ffd", conflicts_with_all = ["refine_tol", "uniform_knots", "repair"])]
+    keep_volume: bool,
+    /// With --ffd: likewise keep the centroid of the enclosed volume.
+    #[arg(long, requires = "ffd", conflicts_with_all = ["refine_tol", "uniform_knots", "repair"])]
+    keep_barycentre: bool,
     /// Write the seam report (before and after) as JSON here.
     #[arg(long)]
     report: Option<PathBuf>,
@@ -116,6 +124,11 @@ pub fn run(a: Args) -> Result<()> {
     for w in crate::morph_warnings::warnings(&params, m.patches()) {
         eprintln!("cadmorph: warning: {w}");
     }
+    let d = if a.keep_volume || a.keep_barycentre {
+        crate::hull::keep_hook(&m, path, a.keep_volume, a.keep_barycentre)?
+    } else {
+        d
+    };
     let before: usize = m.patches().iter().map(|p| p.surface.control_points().len()).sum();
     let refine = match a.refine_tol {
         Some(t) => {

@@ -162,6 +162,10 @@ pub enum Error {
         /// Where they are.
         point: [f64; 3],
     },
+    /// A constrained morph has no solution: the displacements it may change cannot meet
+    /// the constraints (all fixed, a change out of reach, contradicting constraints).
+    #[error("constraint cannot be met: {0}")]
+    Infeasible(String),
     /// A TOML parameter document did not parse or did not describe valid parameters.
     #[error("TOML line {line}, column {column}: {message}")]
     Toml {

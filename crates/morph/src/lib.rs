@@ -56,6 +56,8 @@
 
 pub mod affine;
 pub mod budget;
+pub mod cffd;
+pub mod constrained;
 mod deformation;
 mod error;
 pub mod ffd;

@@ -1,0 +1,19 @@
+//! Object laws for hulls and other closed CAD models (paper section 2.2 and its closing
+//! remarks): the exact enclosed volume of a closed NURBS B-rep and its derivatives
+//! ([`volume`]), FFD that keeps the volume or the barycentre of a CAD model
+//! ([`keep`]), a Lackenby-style shift of the longitudinal centre of buoyancy
+//! ([`lackenby`]).
+//!
+//! The crate works on the model's faces ([`cadmorph_model::Model::patches`]) and bounding
+//! curves; the constrained solvers for point sets live in `cadmorph_morph::constrained`.
+
+pub mod error;
+pub mod gauss;
+pub mod keep;
+pub mod lackenby;
+pub mod volume;
+
+pub use error::{Error, Result};
+pub use keep::{keep, Keep, KeepReport};
+pub use lackenby::{lcb_shift, LcbReport, SectionShift};
+pub use volume::{enclosed, Enclosed, FaceMethod, Moments};

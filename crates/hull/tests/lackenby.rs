@@ -1,0 +1,61 @@
+//! Lackenby-style LCB shift of the planing-hull sample: measured on the morphed faces,
+//! and (ignored test) by OCCT on the written file.
+
+use std::process::Command;
+
+use cadmorph_hull::lcb_shift;
+use cadmorph_model::{Model, MorphOptions};
+use cadmorph_testkit::{harness, sample};
+
+type StepModel = Model<cadmorph_step::Document>;
+
+const LENGTH: f64 = 10.0;
+
+fn occt(path: &std::path::Path) -> (bool, f64, f64) {
+    let out = Command::new(harness::python())
+        .arg(harness::root().join("tests/occt/planing_hull.py"))
+        .arg("volume")
+        .arg(path)
+        .output()
+        .unwrap();
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    (j["valid"] == true, j["volume"].as_f64().unwrap(), j["solids"][0]["centre"][0].as_f64().unwrap())
+}
+
+#[test]
+fn lcb_moves_by_the_asked_amount_with_the_volume_kept() {
+    let m = StepModel::open(&sample("planing_hull.stp")).unwrap();
+    for dx in [0.02, -0.015] {
+        let (_, r) = lcb_shift(m.patches(), m.bound_curves(), m.size(), dx).unwrap();
+        let dv = (r.after.volume - r.before.volume).abs() / r.before.volume;
+        eprintln!(
+            "asked {dx}, reached {:.12}, ΔV/V {dv:.2e}, a {:.6} b {:.6}, {} steps",
+            r.reached, r.shift.a, r.shift.b, r.iterations
+        );
+        assert!((r.reached - dx).abs() <= 1e-10 * LENGTH);
+        assert!(dv <= 1e-12);
+    }
+    let e = lcb_shift(m.patches(), m.bound_curves(), m.size(), 4.0).unwrap_err();
+    eprintln!("{e}");
+}
+
+#[test]
+#[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
+fn lcb_shift_measured_by_occt() {
+    let (ok, v0, x0) = occt(&sample("planing_hull.stp"));
+    assert!(ok);
+    let dir = std::env::temp_dir().join(format!("cadmorph-hull-lcb-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let dx = 0.02;
+    let mut m = StepModel::open(&sample("planing_hull.stp")).unwrap();
+    let (shift, _) = lcb_shift(m.patches(), m.bound_curves(), m.size(), dx).unwrap();
+    m.morph(&shift, &MorphOptions::default()).unwrap();
+    let path = dir.join("lcb.stp");
+    m.save(&path).unwrap();
+    let (ok, v, x) = occt(&path);
+    eprintln!("OCCT: valid {ok}, LCB moved {:.9} (asked {dx}), ΔV/V {:.2e}", x - x0, (v - v0).abs() / v0);
+    assert!(ok);
+    assert!(((x - x0) - dx).abs() <= 1e-4 * LENGTH, "{}", x - x0);
+    assert!((v - v0).abs() / v0 <= 1e-6);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

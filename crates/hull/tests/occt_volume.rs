@@ -1,0 +1,113 @@
+//! Exact enclosed volume against OCCT `BRepGProp::VolumeProperties` (adaptive Gauss,
+//! Eps 1e-12, `tests/occt/planing_hull.py volume`).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use cadmorph_brep::CadDocument;
+use cadmorph_hull::{enclosed, Enclosed, FaceMethod};
+use cadmorph_model::Model;
+use cadmorph_testkit::{harness, sample};
+
+fn open(path: &Path) -> Enclosed {
+    let bytes = std::fs::read(path).unwrap();
+    if bytes.starts_with(b"ISO-10303-21") {
+        let m: Model<cadmorph_step::Document> = Model::from_bytes(&bytes).unwrap();
+        of(&m)
+    } else {
+        let m: Model<cadmorph_iges::Document> = Model::from_bytes(&bytes).unwrap();
+        of(&m)
+    }
+}
+
+fn of<D: CadDocument>(m: &Model<D>) -> Enclosed {
+    enclosed(m.patches(), m.bound_curves(), m.size()).unwrap()
+}
+
+/// OCCT's volume and centre of mass of the solid in `path`.
+pub fn occt_volume(path: &Path) -> (f64, [f64; 3]) {
+    let out = Command::new(harness::python())
+        .arg(harness::root().join("tests/occt/planing_hull.py"))
+        .arg("volume")
+        .arg(path)
+        .output()
+        .expect("planing_hull.py starts");
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("no JSON ({e}): {}", String::from_utf8_lossy(&out.stderr)));
+    assert_eq!(json["valid"], true, "OCCT finds {} invalid", path.display());
+    let solids = json["solids"].as_array().unwrap();
+    assert_eq!(solids.len(), 1, "{}", path.display());
+    let c = &solids[0]["centre"];
+    (json["volume"].as_f64().unwrap(), [0, 1, 2].map(|k| c[k].as_f64().unwrap()))
+}
+
+fn compare(path: &Path, rel: f64) -> Enclosed {
+    let ours = open(path);
+    let (v, c) = occt_volume(path);
+    let err = (ours.total.volume - v).abs() / v;
+    let centroid = ours.total.centroid();
+    eprintln!(
+        "{}: cadmorph {:.15e}, OCCT {:.15e}, relative {err:.2e}; centroid {centroid:?} vs {c:?}",
+        path.display(),
+        ours.total.volume,
+        v
+    );
+    assert!(err <= rel, "{}: relative volume difference {err:e}", path.display());
+    let scale = v.cbrt();
+    for k in 0..3 {
+        assert!((centroid[k] - c[k]).abs() <= 1e-8 * scale, "centroid {k}: {} vs {}", centroid[k], c[k]);
+    }
+    ours
+}
+
+/// The figures OCCT gave when the samples were made (the ignored tests below measure
+/// them again), so that plain `cargo test` checks the integration too.
+#[test]
+fn recorded_occt_volumes() {
+    for (name, occt, planar) in [("planing_hull.stp", 40.41889533333262, 2), ("mixed_solid.stp", 33515.302782352825, 4)]
+    {
+        let e = open(&sample(name));
+        let err = (e.total.volume - occt).abs() / occt;
+        assert!(err <= 1e-8, "{name}: {} vs OCCT {occt} ({err:e})", e.total.volume);
+        assert_eq!(e.methods.iter().filter(|m| **m == FaceMethod::Planar).count(), planar, "{name}");
+    }
+}
+
+#[test]
+#[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
+fn planing_hull_volume_matches_occt() {
+    compare(&sample("planing_hull.stp"), 1e-8);
+    compare(&sample("planing_hull.igs"), 1e-8);
+}
+
+#[test]
+#[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
+fn mixed_solid_volume_matches_occt() {
+    compare(&sample("mixed_solid.stp"), 1e-8);
+}
+
+fn blade_solid(dir: &Path) -> PathBuf {
+    use cadmorph_blade::export::step_solids;
+    use cadmorph_blade::{BladeSolid, DesignTable};
+    let table = sample("blade/tutorial.toml");
+    let t = DesignTable::read(&table).unwrap();
+    let blade = t.blade().unwrap();
+    let coords = blade.apply_transformations(t.reflect).unwrap();
+    let solid = BladeSolid::from_coordinates(&coords, t.loft.u_degree, t.loft.v_degree).unwrap();
+    let tol = 2e-9 * blade.radii[blade.len() - 1];
+    let bytes = step_solids(&t.name, &[solid.faces()], t.unit, tol).unwrap();
+    let path = dir.join("blade_solid.stp");
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+#[test]
+#[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
+fn blade_solid_volume_matches_occt() {
+    let dir = std::env::temp_dir().join(format!("cadmorph-hull-blade-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = blade_solid(&dir);
+    let e = compare(&path, 1e-8);
+    assert!(e.methods.iter().all(|m| *m == FaceMethod::Natural));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
