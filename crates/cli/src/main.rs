@@ -19,6 +19,7 @@ mod morph;
 mod params;
 mod progress;
 mod refine;
+mod report;
 mod sample;
 mod seams;
 mod skipped;
@@ -67,6 +68,8 @@ enum Command {
     Eval(eval::Args),
     /// Design-of-experiments campaigns: plan, run (sharded, Slurm), status, collect.
     Campaign(campaign::Args),
+    /// One self-contained HTML page of a model or a morph: 3D view, seams, pictures.
+    Report(report::Args),
 }
 
 /// Make the main thread worker 0 of rayon's global pool. A parallel loop then starts on
@@ -100,6 +103,7 @@ fn main() -> ExitCode {
         Command::Convert(a) => convert::run(a),
         Command::Eval(a) => eval::run(a),
         Command::Campaign(a) => campaign::run(a),
+        Command::Report(a) => report::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -59,6 +59,9 @@ pub struct Args {
     /// Write the seam report (before and after) as JSON here.
     #[arg(long)]
     report: Option<PathBuf>,
+    /// Also write the HTML report of the morph here (the page of `cadmorph report`).
+    #[arg(long)]
+    report_html: Option<PathBuf>,
     /// Print the outcome as JSON.
     #[arg(long)]
     json: bool,
@@ -123,9 +126,27 @@ pub fn run(a: Args) -> Result<()> {
         Some(r) => Some(Staged::new(r, serde_json::to_string_pretty(&outcome)?.as_bytes())?),
         None => None,
     };
+    let html = match &a.report_html {
+        Some(p) => Some(crate::report::for_morph(
+            &a.input,
+            &a.output,
+            &m,
+            &outcome,
+            a.source.ffd.as_deref(),
+            a.refine_tol,
+            a.angle_tol,
+            elapsed,
+            p,
+        )?),
+        None => None,
+    };
     Staged::new(&a.output, &bytes)?.commit()?;
     if let Some(r) = report {
         r.commit()?;
+    }
+    if let (Some((files, seconds)), Some(p)) = (html, &a.report_html) {
+        files.commit()?;
+        eprintln!("report {} written in {:.1} ms", p.display(), seconds * 1e3);
     }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&outcome)?);

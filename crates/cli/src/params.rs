@@ -6,7 +6,7 @@ use anyhow::{bail, Context, Result};
 use cadmorph::morph::{Deformation, Parameters};
 
 /// The parameters in `path` (TOML by the `.toml` extension, else PyGeM `.prm`).
-fn read(path: &Path) -> Result<Parameters> {
+pub(crate) fn read(path: &Path) -> Result<Parameters> {
     let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
     let is_toml = path.extension().is_some_and(|e| e == "toml");
     let params = if is_toml { Parameters::from_toml(&text) } else { Parameters::from_prm(&text) };
