@@ -61,14 +61,8 @@
   );
   var uintOk = !!gl.getExtension("OES_element_index_uint");
 
-  var centre = [0, 1, 2].map(function (k) { return (data.min[k] + data.max[k]) / 2; });
+  var centre = data.centre; // face positions in the data are relative to it
   var radius = Math.max(data.size / 2, 1e-30);
-  function rel(flat) {
-    // Model coordinates relative to the centre, as f32.
-    var out = new Float32Array(flat.length);
-    for (var i = 0; i < flat.length; i++) out[i] = flat[i] - centre[i % 3];
-    return out;
-  }
   function buffer(arr, target) {
     var b = gl.createBuffer();
     gl.bindBuffer(target || gl.ARRAY_BUFFER, b);

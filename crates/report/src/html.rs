@@ -40,12 +40,13 @@ fn flat(points: &[[f64; 3]]) -> Vec<f64> {
     points.iter().flatten().copied().collect()
 }
 
-fn state_json(s: &ModelView) -> Value {
+fn state_json(s: &ModelView, centre: [f64; 3]) -> Value {
     let faces: Vec<Value> = s
         .faces
         .iter()
         .map(|f| {
-            let pos: Vec<f32> = f.mesh.positions.iter().flatten().map(|&c| c as f32).collect();
+            let pos: Vec<f32> =
+                f.mesh.positions.iter().flat_map(|p| (0..3).map(move |k| (p[k] - centre[k]) as f32)).collect();
             let nrm: Vec<f32> = f.mesh.normals.iter().flatten().map(|&c| c as f32).collect();
             let idx: Vec<u32> = f.mesh.triangles.iter().flatten().copied().collect();
             json!({
@@ -73,17 +74,19 @@ fn state_json(s: &ModelView) -> Value {
 ///
 /// [`crate::Error::Json`] (non-finite numbers become `null`, which is no error).
 pub fn viewer_data(scene: &Scene) -> Result<String> {
-    // Positions are f32 in the page: relative to the centre in the viewer, so they keep
-    // about 1e-7 of the model size.
+    // Face positions are f32 relative to the centre of the box (so they keep about 1e-7
+    // of the model size); lines and nets are f64 model coordinates.
     let lattice = scene.lattice.as_ref().map(|l| {
         json!({
             "shape": l.shape, "original": flat(&l.original), "moved": flat(&l.moved),
             "lines": l.lines().into_iter().flatten().collect::<Vec<_>>(),
         })
     });
-    let states: Vec<Value> = std::iter::once(&scene.before).chain(scene.after.as_ref()).map(state_json).collect();
+    let centre: [f64; 3] = std::array::from_fn(|k| (scene.min[k] + scene.max[k]) / 2.0);
+    let states: Vec<Value> =
+        std::iter::once(&scene.before).chain(scene.after.as_ref()).map(|s| state_json(s, centre)).collect();
     let v = json!({
-        "unit": scene.unit, "size": scene.size, "min": scene.min, "max": scene.max,
+        "unit": scene.unit, "size": scene.size, "min": scene.min, "max": scene.max, "centre": centre,
         "gapScale": scene.gap_scale, "angleScale": scene.angle_scale,
         "faceColours": FACE_COLOURS, "netColour": NET, "latticeColours": [LATTICE_ORIGINAL, LATTICE_MOVED],
         "camera": { "az": 1.15, "el": 0.35 },

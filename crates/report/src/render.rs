@@ -15,13 +15,18 @@ pub struct Layers {
     pub lattice: bool,
     /// The faces' control nets.
     pub nets: bool,
+    /// Faces shaded by a head light; unlit, each face is flat in its colour, so two
+    /// pictures differ exactly where the faces' outlines moved by a pixel or more.
+    pub lit: bool,
 }
 
 impl Layers {
     /// Faces only.
-    pub const FACES: Layers = Layers { seams: false, lattice: false, nets: false };
+    pub const FACES: Layers = Layers { seams: false, lattice: false, nets: false, lit: true };
+    /// Faces, unlit.
+    pub const OUTLINES: Layers = Layers { seams: false, lattice: false, nets: false, lit: false };
     /// Faces and seams.
-    pub const SEAMS: Layers = Layers { seams: true, lattice: false, nets: false };
+    pub const SEAMS: Layers = Layers { seams: true, lattice: false, nets: false, lit: true };
 }
 
 /// Colours of the faces, by face index (repeating).
@@ -48,7 +53,9 @@ pub fn camera(scene: &Scene, view: &View, width: u32, height: u32) -> Option<Cam
 pub fn render(scene: &Scene, state: &ModelView, cam: &Camera, layers: Layers) -> Result<Image> {
     let mut img = Image::new(cam.width, cam.height)?;
     for (k, f) in state.faces.iter().enumerate() {
-        img.triangles(cam, &f.mesh.positions, &f.mesh.normals, &f.mesh.triangles, FACE_COLOURS[k % FACE_COLOURS.len()]);
+        let colour = FACE_COLOURS[k % FACE_COLOURS.len()];
+        let normals = if layers.lit { None } else { Some(vec![cam.towards_eye(); f.mesh.normals.len()]) };
+        img.triangles(cam, &f.mesh.positions, normals.as_deref().unwrap_or(&f.mesh.normals), &f.mesh.triangles, colour);
     }
     // Lines show through a little depth (their own sampling against the triangles').
     let bias = 2e-3 * scene.size;
@@ -105,7 +112,7 @@ pub fn pictures(scene: &Scene, width: u32, height: u32) -> Result<Vec<Picture>> 
         let cam = camera(scene, view, width, height)
             .ok_or_else(|| crate::Error::NotFinite { what: "the scene's bounding box".into() })?;
         for state in std::iter::once(&scene.before).chain(scene.after.as_ref()) {
-            let layers = Layers { seams: true, lattice: state.name == "after", nets: false };
+            let layers = Layers { seams: true, lattice: state.name == "after", nets: false, lit: true };
             let png = render(scene, state, &cam, layers)?.to_png()?;
             out.push(Picture { view: view.name, state: state.name.clone(), png });
         }
