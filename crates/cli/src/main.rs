@@ -9,6 +9,7 @@
 mod output;
 mod blade;
 mod campaign;
+mod campaign_report;
 mod convert;
 mod eval;
 mod grid;

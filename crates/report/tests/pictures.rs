@@ -63,7 +63,16 @@ fn before_and_after_differ_only_inside_the_ffd_box() {
         let cam = camera(&sc, view, 800, 400).unwrap();
         let a = render(&sc, &sc.before, &cam, Layers::FACES).unwrap();
         let b = render(&sc, sc.after.as_ref().unwrap(), &cam, Layers::FACES).unwrap();
-        let hull = convex_hull(lattice.corners().iter().map(|&c| { let p = cam.project(c); [p[0], p[1]] }).collect());
+        let hull = convex_hull(
+            lattice
+                .corners()
+                .iter()
+                .map(|&c| {
+                    let p = cam.project(c);
+                    [p[0], p[1]]
+                })
+                .collect(),
+        );
         let (mut inside_diff, mut outside_diff, mut covered) = (0usize, Vec::new(), 0usize);
         for y in 0..cam.height {
             for x in 0..cam.width {
