@@ -129,9 +129,9 @@ pub fn seam_table(scene: &Scene, state: &ModelView, r: &SeamReport) -> String {
             escape(&e.edge.iter().map(|r| r.to_string()).collect::<Vec<_>>().join(", ")),
         );
     }
-    let _ = write!(
+    let _ = writeln!(
         t,
-        "</tbody></table><p>{} edges ({} sharp, *); max gap closest {} {u}, matched {} {u}; max G1 {} deg (smooth edges)</p>\n",
+        "</tbody></table><p>{} edges ({} sharp, *); max gap closest {} {u}, matched {} {u}; max G1 {} deg (smooth edges)</p>",
         r.edges.len(),
         r.sharp_edges,
         num(r.max_gap_closest),
