@@ -118,6 +118,8 @@ fn campaign_report_marks_the_variants() {
     assert_eq!(page.matches("<img ").count(), 2);
     assert_eq!(page.matches("data-state=\"pending\"").count(), 128);
     assert!(page.contains("class=\"sortable\""));
+    // Each of the 6 parameters against each of the 4 plotted results.
+    assert_eq!(page.matches("<svg").count(), 24);
 }
 
 #[test]

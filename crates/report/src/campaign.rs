@@ -78,7 +78,40 @@ pub struct CampaignPage {
     pub rows: Vec<Row>,
 }
 
+/// The result columns of `collect` plotted against each parameter.
+pub const PLOTTED: [&str; 4] = ["max_gap_closest", "max_g1_angle_deg", "control_points", "total_ms"];
+
 impl CampaignPage {
+    /// Scatter plots (SVG) of each parameter (the columns between the id and `state`)
+    /// against each [`PLOTTED`] result, made variants only; out-of-tolerance and failed
+    /// ones as red crosses. Empty when nothing is made.
+    pub fn scatter_plots(&self) -> String {
+        let Some(state) = self.columns.iter().position(|c| c == "state") else { return String::new() };
+        let made: Vec<&Row> = self.rows.iter().filter(|r| r.state != RowState::Pending).collect();
+        let mut out = String::new();
+        for y_name in PLOTTED {
+            let Some(yc) = self.columns.iter().position(|c| c == y_name) else { continue };
+            for xc in 1..state {
+                let pts: Vec<crate::plots::Point> = made
+                    .iter()
+                    .map(|r| crate::plots::Point {
+                        x: r.cells.get(xc).and_then(|c| c.parse().ok()).unwrap_or(f64::NAN),
+                        y: r.cells.get(yc).and_then(|c| c.parse().ok()).unwrap_or(f64::NAN),
+                        marked: r.state != RowState::Ok,
+                    })
+                    .collect();
+                if let Some(svg) = crate::plots::scatter_svg(&self.columns[xc], y_name, &pts, 360, 240) {
+                    out.push_str(&svg);
+                    out.push('\n');
+                }
+            }
+        }
+        if out.is_empty() {
+            return out;
+        }
+        format!("<h2>Parameters against results</h2><div class=\"plots\">\n{out}</div>\n")
+    }
+
     /// The page as HTML.
     pub fn to_html(&self) -> String {
         let mut h = head(&self.title);
@@ -119,7 +152,9 @@ impl CampaignPage {
             }
             h.push_str("</tr>\n");
         }
-        let _ = write!(h, "</tbody></table>\n<script>{SORT_JS}</script>\n</body></html>\n");
+        h.push_str("</tbody></table>\n");
+        h.push_str(&self.scatter_plots());
+        let _ = write!(h, "<script>{SORT_JS}</script>\n</body></html>\n");
         h
     }
 }

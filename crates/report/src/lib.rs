@@ -14,7 +14,8 @@
 //!   colouring as vertex colours; [`vtk`]: `.vtu` grids of the control nets and the
 //!   lattice for ParaView.
 //! - [`campaign`]: the index page of a campaign: a thumbnail per variant, the results
-//!   table (sortable), failed and out-of-tolerance variants marked.
+//!   table (sortable), failed and out-of-tolerance variants marked, and scatter plots of
+//!   each parameter against each result ([`plots`], SVG through the `plotters` crate).
 //!
 //! # Why a hand-written WebGL viewer
 //!
@@ -41,6 +42,7 @@ pub mod gltf;
 pub mod grid;
 pub mod html;
 pub mod page;
+pub mod plots;
 pub mod raster;
 pub mod render;
 pub mod scene;
