@@ -22,7 +22,7 @@
 //! The page's viewer (`assets/viewer.js`, about 400 lines, WebGL 1) is written for
 //! cadmorph instead of inlining three.js. What the page draws is small: opaque
 //! triangles with a head light, lines, an orthographic orbit camera, and picking of
-//! seam edges in screen space. three.js (MIT) would add about 700 kB of minified script
+//! seam edges in screen space. three.js (MIT) would add several hundred kB of minified script
 //! to every report, a vendored copy to keep up to date with its licence, and a scene
 //! graph the page does not use; the hand-written viewer is about 15 kB, has no
 //! dependency to update, opens offline like the rest of the page, and its colour scale
