@@ -55,6 +55,15 @@ enum Command {
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
+    /// The index page: a thumbnail per variant, the results table (sortable), failed and
+    /// out-of-tolerance variants marked.
+    Report {
+        #[command(flatten)]
+        c: Campaign,
+        /// Where to write it (default: index.html in the campaign folder).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
     /// Write an sbatch job-array script (estimates from a pilot run) and optionally submit it.
     Slurm {
         #[command(flatten)]
@@ -167,6 +176,11 @@ pub fn run(a: Args) -> Result<()> {
             if let Some(r) = slurm::scheduler_report(&s) {
                 print!("{r}");
             }
+        }
+        Command::Report { c, output } => {
+            let s = space(&c)?;
+            let m = Manifest::plan(&s);
+            crate::campaign_report::run(&s, &m, output)?;
         }
         Command::Collect { c, output } => {
             let s = space(&c)?;

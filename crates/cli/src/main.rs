@@ -9,6 +9,7 @@
 mod output;
 mod blade;
 mod campaign;
+mod campaign_report;
 mod completions;
 mod convert;
 mod entity_names;
@@ -27,6 +28,7 @@ mod overrides;
 mod params;
 mod progress;
 mod refine;
+mod report;
 mod sample;
 mod schema;
 mod seam_report;
@@ -96,6 +98,8 @@ enum Command {
     /// Print the JSON Schema of every `--json` output (each document's `schema` field
     /// names its definition).
     Schema(schema::Args),
+    /// One self-contained HTML page of a model or a morph: 3D view, seams, pictures.
+    Report(report::Args),
 }
 
 /// Make the main thread worker 0 of rayon's global pool. A parallel loop then starts on
@@ -139,6 +143,7 @@ fn main() -> ExitCode {
         Command::Ffd(c) => ffd::run(c),
         Command::Completions(a) => completions::completions(a, Cli::command()),
         Command::Man(a) => completions::man(a, Cli::command()),
+        Command::Report(a) => report::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -98,6 +98,9 @@ pub struct Args {
     /// Write the seam report (before and after) as JSON here.
     #[arg(long)]
     report: Option<PathBuf>,
+    /// Also write the HTML report of the morph here (the page of `cadmorph report`).
+    #[arg(long)]
+    report_html: Option<PathBuf>,
     /// Print the outcome as JSON (schema `cadmorph.morph/1`, see `cadmorph schema`).
     #[arg(long)]
     json: bool,
@@ -210,6 +213,20 @@ pub fn run(a: Args) -> Result<()> {
         Some(r) => Some(Staged::new(r, serde_json::to_string_pretty(&json)?.as_bytes())?),
         None => None,
     };
+    let html = match &a.report_html {
+        Some(p) => Some(crate::report::for_morph(
+            &a.input,
+            &a.output,
+            &m,
+            &outcome,
+            matches!(params, cadmorph::morph::Parameters::Ffd(_)).then_some(path.as_path()),
+            a.refine_tol,
+            a.angle_tol,
+            elapsed,
+            p,
+        )?),
+        None => None,
+    };
     Staged::new(&a.output, &bytes)?.commit()?;
     if let Some(r) = report {
         r.commit()?;
@@ -219,8 +236,21 @@ pub fn run(a: Args) -> Result<()> {
             "cadmorph: warning: the morph moved no control point: 0 faces rewritten, the output equals the input"
         );
     }
+    if let (Some((files, seconds)), Some(p)) = (html, &a.report_html) {
+        files.commit()?;
+        eprintln!("report {} written in {:.1} ms", p.display(), seconds * 1e3);
+    }
     if a.json {
-        return crate::morph_json::print(&a.input, &a.output, path, &params, &m, &outcome, json.get("exact").cloned(), elapsed);
+        return crate::morph_json::print(
+            &a.input,
+            &a.output,
+            path,
+            &params,
+            &m,
+            &outcome,
+            json.get("exact").cloned(),
+            elapsed,
+        );
     }
     println!(
         "{} -> {} in {:.1} ms: {} faces and {} curves rewritten, control points {} -> {}",
