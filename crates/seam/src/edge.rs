@@ -6,7 +6,8 @@ use cadmorph_brep::EntityRef;
 use cadmorph_nurbs::math::Point3;
 use cadmorph_nurbs::{Aabb, Curve, CurveProject, NurbsCurve, NurbsSurface, Projection, Surface, SurfaceProject};
 
-use crate::adjacency::overlap;
+use crate::adjacency::best_partner;
+use crate::index::BoxIndex;
 use crate::measure::{angle_deg, oriented_normal, Acc, EdgeEnd, EdgeReport, Face};
 use crate::SharedBoundary;
 
@@ -184,7 +185,13 @@ pub fn measure_edge_samples(faces: &[Face], s: &EdgeSamples) -> EdgeReport {
 /// Pairs of trimming curves of different faces that lie on each other within `tol`
 /// over at least `min_fraction` of the shorter one (sampled at `samples` points): the
 /// shared edges of faces that carry no topology. Each edge is the shorter curve over
-/// its matched part; its label joins both curves' labels.
+/// its matched part; its label joins both curves' labels. Curves that merely touch
+/// another (less than `min_fraction` of the shorter on it) do not pair.
+///
+/// Each curve is sampled onto the curves at least as long as it that a bounding-box
+/// index finds near it and keeps the one it lies on over the largest part (see
+/// [`shared_boundaries`](crate::shared_boundaries)): near-linear in the number of
+/// curves, and `k` coincident copies give `k − 1` edges.
 pub fn shared_curves(curves: &[TrimCurve], tol: f64, samples: usize, min_fraction: f64) -> Vec<TrimEdge> {
     let samples = samples.max(3);
     let boxes: Vec<(Aabb, f64)> = curves
@@ -197,24 +204,23 @@ pub fn shared_curves(curves: &[TrimCurve], tol: f64, samples: usize, min_fractio
             (c.curve.bounding_box().inflated(tol), pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum())
         })
         .collect();
+    let index = BoxIndex::new(boxes.iter().map(|b| &b.0));
     let mut out = Vec::new();
     for i in 0..curves.len() {
-        for j in i + 1..curves.len() {
-            let (a, b) = (&curves[i], &curves[j]);
-            if a.patch == b.patch || boxes[i].1 <= tol || boxes[j].1 <= tol {
-                continue;
-            }
-            if boxes[i].0.intersection(&boxes[j].0).is_none() {
-                continue;
-            }
-            let (short, long) = if boxes[i].1 <= boxes[j].1 { (a, b) } else { (b, a) };
-            let Some((range, _)) = overlap(&short.curve, &long.curve, tol, samples, min_fraction) else {
-                continue;
-            };
-            let label: Vec<EntityRef> = a.label.iter().chain(&b.label).copied().collect();
-            let range = (range.0.min(range.1), range.0.max(range.1));
-            out.push(TrimEdge { a: a.patch, b: b.patch, curve: short.curve.clone(), range, label });
+        let len = boxes[i].1;
+        if len <= tol || !len.is_finite() {
+            continue;
         }
+        let candidates = index
+            .overlapping(&boxes[i].0)
+            .into_iter()
+            .filter(|&j| curves[j].patch != curves[i].patch && (boxes[j].1, j) > (len, i));
+        let best = best_partner(candidates, &curves[i].curve, |j| &curves[j].curve, tol, samples, min_fraction);
+        let Some((j, (range, _))) = best else { continue };
+        let (a, b) = if i < j { (&curves[i], &curves[j]) } else { (&curves[j], &curves[i]) };
+        let label: Vec<EntityRef> = a.label.iter().chain(&b.label).copied().collect();
+        let range = (range.0.min(range.1), range.0.max(range.1));
+        out.push(TrimEdge { a: a.patch, b: b.patch, curve: curves[i].curve.clone(), range, label });
     }
     out
 }

@@ -29,6 +29,7 @@
 mod adjacency;
 mod edge;
 mod error;
+mod index;
 mod measure;
 mod refine;
 mod repair;
