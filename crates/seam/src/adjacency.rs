@@ -183,6 +183,8 @@ pub(crate) fn overlap(
     let mut first: Option<(f64, f64)> = None;
     let mut last: Option<(f64, f64)> = None;
     let mut matched = 0;
+    // Once more samples have missed than `min_fraction` allows, the answer is no.
+    let allowed_misses = samples as f64 * (1.0 - min_fraction);
     for i in 0..samples {
         let t = t0 + (t1 - t0) * i as f64 / (samples - 1) as f64;
         let pr = long.project(&short.eval(t), tol * 1e-3);
@@ -192,6 +194,8 @@ pub(crate) fn overlap(
                 first = Some((t, pr.t));
             }
             last = Some((t, pr.t));
+        } else if (i + 1 - matched) as f64 > allowed_misses {
+            return None;
         }
     }
     if (matched as f64) < min_fraction * samples as f64 {
