@@ -85,9 +85,13 @@ impl TrimEdge {
             // No closest point is farther than a point of the surface we know: a search
             // that ends farther has failed, and its distance is no measurement.
             let bound = known.iter().map(|k| (k - p).norm()).fold(f64::INFINITY, f64::min);
-            let d = pr.distance_sq.sqrt();
-            let failed = !(d.is_finite() && pr.u.is_finite() && pr.v.is_finite()) || d > bound * (1.0 + 1e-9) + ptol;
-            if failed {
+            let lost = |pr: &Projection| {
+                let d = pr.distance_sq.sqrt();
+                !(d.is_finite() && pr.u.is_finite() && pr.v.is_finite()) || d > bound * (1.0 + 1e-9) + ptol
+            };
+            // A local answer that lost its way gets the global search before giving up.
+            let pr = if lost(&pr) && prev.is_some() { surface.project(&p, ptol) } else { pr };
+            if lost(&pr) {
                 out.push((t, p, OnFace { u: f64::NAN, v: f64::NAN, point: p }));
                 continue;
             }
