@@ -6,7 +6,8 @@
 use std::collections::HashMap;
 
 use cadmorph_brep::{BoundCurve, EntityRef, Face};
-use cadmorph_nurbs::NurbsSurface;
+use cadmorph_nurbs::math::Point3;
+use cadmorph_nurbs::{Curve, NurbsSurface};
 use cadmorph_seam::{shared_boundaries, shared_curves, SharedBoundary, TrimCurve, TrimEdge};
 
 /// The diagonal of the box around all control points of `faces`.
@@ -20,13 +21,46 @@ pub(crate) fn edge_tol(faces: &[Face]) -> f64 {
     1e-3 * size_of(faces)
 }
 
-/// The iso-boundary edges of `faces` and the other shared edges of `bounds` (those that
-/// are not also iso-boundary edges).
+/// The shared edges of `faces`, topology first (issue 22 item 4):
+///
+/// - a face with bound curves (STEP B-rep edges, IGES 504 edges of 510 faces, 142/141
+///   trims of 144/143 faces) meets its neighbours exactly where those curves say: edges
+///   the file names (the same `EDGE_CURVE` at the same occurrence, the same 504 edge),
+///   and trimming curves of two faces that lie on each other over their length;
+/// - only faces without any bound curve (bare surfaces) are paired by their
+///   iso-boundaries, and only with each other.
+///
+/// Such an edge is given as an iso-boundary edge (which seam repair can make exact)
+/// when it runs along an iso-boundary of both its faces over that boundary overlap's
+/// whole length; otherwise it is measured along its own curve, between the trimmed faces.
 pub(crate) fn shared_edges(faces: &[Face], bounds: &[BoundCurve]) -> (Vec<SharedBoundary>, Vec<TrimEdge>) {
     let tol = edge_tol(faces);
-    let refs: Vec<&NurbsSurface> = faces.iter().map(|p| &p.surface).collect();
-    let iso = shared_boundaries(&refs, tol, 64, 0.9);
-    let trims = trims_off(faces, bounds, &iso);
+    let mut bounded = vec![false; faces.len()];
+    for b in bounds {
+        if let Some(f) = bounded.get_mut(b.face) {
+            *f = true;
+        }
+    }
+    let bare: Vec<usize> = (0..faces.len()).filter(|&k| !bounded[k]).collect();
+    let refs: Vec<&NurbsSurface> = bare.iter().map(|&k| &faces[k].surface).collect();
+    let mut iso: Vec<SharedBoundary> = shared_boundaries(&refs, tol, 64, 0.9)
+        .into_iter()
+        .map(|mut e| {
+            e.a.patch = bare[e.a.patch];
+            e.b.patch = bare[e.b.patch];
+            e
+        })
+        .collect();
+    let mut trims = Vec::new();
+    let mut pairs: HashMap<(usize, usize), Vec<SharedBoundary>> = HashMap::new();
+    for t in topology_edges(bounds, tol) {
+        let candidates = pairs.entry((t.a, t.b)).or_insert_with(|| iso_candidates(faces, t.a, t.b, tol));
+        match iso_form(faces, candidates, &t, tol) {
+            Some(e) if !iso.contains(&e) => iso.push(e),
+            Some(_) => {}
+            None => trims.push(t),
+        }
+    }
     (iso, trims)
 }
 
@@ -39,12 +73,47 @@ pub(crate) fn trims_off(faces: &[Face], bounds: &[BoundCurve], iso: &[SharedBoun
         .collect()
 }
 
-/// Every pair of distinct faces using the same edge piece, and the trimming curves that
-/// lie on each other within `tol`, in order of first use.
+/// The iso-boundary pairs between faces `a` and `b`, numbered as in `faces`.
+fn iso_candidates(faces: &[Face], a: usize, b: usize, tol: f64) -> Vec<SharedBoundary> {
+    let pair = [&faces[a].surface, &faces[b].surface];
+    shared_boundaries(&pair, tol, 64, 0.9)
+        .into_iter()
+        .map(|mut e| {
+            e.a.patch = if e.a.patch == 0 { a } else { b };
+            e.b.patch = if e.b.patch == 0 { a } else { b };
+            e
+        })
+        .collect()
+}
+
+/// The iso-boundary edge that topology edge `t` is, if any: its two faces have
+/// iso-boundaries that lie on each other, `t`'s curve lies on that overlap, and the
+/// overlap's ends are `t`'s ends, distinct (so the iso edge is the trimmed edge, not
+/// more, and not a closed loop).
+fn iso_form(faces: &[Face], candidates: &[SharedBoundary], t: &TrimEdge, tol: f64) -> Option<SharedBoundary> {
+    let ends = [t.curve.eval(t.range.0), t.curve.eval(t.range.1)];
+    candidates.iter().copied().find(|e| {
+        let first = &faces[e.a.patch].surface;
+        if !t.lies_on(e, first, tol) {
+            return false;
+        }
+        let side = first.boundary(e.a.side);
+        let (p0, p1) = (side.eval(e.a_range.0), side.eval(e.a_range.1));
+        let covers = |p: &Point3<f64>| ends.iter().any(|q| (p - q).norm() <= tol);
+        // A closed overlap (a whole circle) has no ends to pair the two sides by: the
+        // linear map of ranges would pair points at different angles.
+        (p0 - p1).norm() > tol && covers(&p0) && covers(&p1)
+    })
+}
+
+/// Every pair of distinct faces using the same edge piece, in order of first use; then
+/// the free curves (trimming curves, which name no partner, and named edges that only
+/// one face uses) that lie on each other within `tol` over their length, paired only
+/// between faces with the same placement (never across assembly instances).
 fn topology_edges(bounds: &[BoundCurve], tol: f64) -> Vec<TrimEdge> {
     let mut order: Vec<(EntityRef, u32, usize)> = Vec::new();
     let mut users: HashMap<(EntityRef, u32, usize), Vec<&BoundCurve>> = HashMap::new();
-    let mut trims: Vec<TrimCurve> = Vec::new();
+    let mut free: Vec<&BoundCurve> = Vec::new();
     for b in bounds {
         match b.edge {
             Some(e) => {
@@ -57,12 +126,16 @@ fn topology_edges(bounds: &[BoundCurve], tol: f64) -> Vec<TrimEdge> {
                     list.push(b);
                 }
             }
-            None => trims.push(TrimCurve { patch: b.face, curve: b.curve.clone(), label: Some(b.label) }),
+            None => free.push(b),
         }
     }
     let mut out = Vec::new();
     for key in order {
         let mut list = users[&key].clone();
+        if list.len() == 1 {
+            free.push(list[0]);
+            continue;
+        }
         list.sort_by_key(|b| b.face);
         for i in 0..list.len() {
             for j in i + 1..list.len() {
@@ -76,6 +149,18 @@ fn topology_edges(bounds: &[BoundCurve], tol: f64) -> Vec<TrimEdge> {
             }
         }
     }
-    out.extend(shared_curves(&trims, tol, 32, 0.9));
+    // One group per placement, in order of first use.
+    let mut groups: Vec<([u64; 16], Vec<TrimCurve>)> = Vec::new();
+    for b in free {
+        let key: [u64; 16] = std::array::from_fn(|k| b.placement.as_slice()[k].to_bits());
+        let curve = TrimCurve { patch: b.face, curve: b.curve.clone(), label: Some(b.label) };
+        match groups.iter_mut().find(|g| g.0 == key) {
+            Some(g) => g.1.push(curve),
+            None => groups.push((key, vec![curve])),
+        }
+    }
+    for (_, curves) in groups {
+        out.extend(shared_curves(&curves, tol, 32, 0.9));
+    }
     out
 }

@@ -5,6 +5,8 @@ use cadmorph_nurbs::math::Point3;
 use cadmorph_nurbs::{Aabb, Curve, CurveProject, NurbsCurve, NurbsSurface, Side, Surface};
 use serde::Serialize;
 
+use crate::index::BoxIndex;
+
 /// One side of one patch: `patch` indexes the caller's patch list.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 pub struct SideRef {
@@ -73,7 +75,17 @@ fn polyline_length(c: &NurbsCurve, n: usize) -> f64 {
 /// boundary when its projection onto that boundary curve is within `tol`. The overlap is
 /// the parameter interval of the matched samples, and the matching interval on the other
 /// side comes from projecting its two ends. Collapsed boundaries (poles, whose length
-/// is below `tol`) never pair.
+/// is below `tol`) never pair; boundaries that merely touch (less than `min_fraction`
+/// of the shorter on the other) do not either.
+///
+/// # Pairing
+///
+/// Each boundary is sampled onto the boundaries at least as long as it (by length, then
+/// by index), found through a bounding-box index ([`BoxIndex`]), and keeps the one
+/// partner it lies on over the largest part of its length (the first in index order
+/// among equals), as OCCT's sewing gives each free edge one partner. So a model of `n`
+/// faces pairs in `O(n log n)` box queries plus a bounded number of overlap tests per
+/// boundary, and `k` coincident copies of a face give `k − 1` edges, not `k²/2`.
 ///
 /// # Tolerance
 ///
@@ -92,37 +104,64 @@ pub fn shared_boundaries(
         for side in Side::ALL {
             let curve = s.boundary(side);
             let length = polyline_length(&curve, 64);
-            if length <= tol {
+            if length <= tol || !length.is_finite() {
                 continue;
             }
             let bbox = curve.bounding_box().inflated(tol);
             boundaries.push(Boundary { side: SideRef { patch, side }, curve, bbox, length });
         }
     }
+    let index = BoxIndex::new(boundaries.iter().map(|b| &b.bbox));
     let mut out = Vec::new();
     for i in 0..boundaries.len() {
-        for j in i + 1..boundaries.len() {
-            let (a, b) = (&boundaries[i], &boundaries[j]);
-            if a.side.patch == b.side.patch || a.bbox.intersection(&b.bbox).is_none() {
-                continue;
-            }
-            // Sample the shorter side onto the longer one, then orient as (a, b) in index order.
-            let (short, long, swapped) = if a.length <= b.length { (a, b, false) } else { (b, a, true) };
-            let Some((short_range, long_range)) = overlap(&short.curve, &long.curve, tol, samples, min_fraction) else {
-                continue;
-            };
-            // `a` (the lower index) stays the first side either way, so that an edge keeps
-            // its orientation when a morph changes which side is longer.
-            let shared = if swapped {
-                orient(a.side, b.side, long_range, short_range)
-            } else {
-                orient(a.side, b.side, short_range, long_range)
-            };
-            out.push(shared);
-        }
+        let short = &boundaries[i];
+        let candidates = index.overlapping(&short.bbox).into_iter().filter(|&j| {
+            let long = &boundaries[j];
+            long.side.patch != short.side.patch && (long.length, j) > (short.length, i)
+        });
+        let best = best_partner(candidates, &short.curve, |j| &boundaries[j].curve, tol, samples, min_fraction);
+        let Some((j, (short_range, long_range))) = best else { continue };
+        // Orient as (a, b) in index order.
+        let shared = if j < i {
+            orient(boundaries[j].side, short.side, long_range, short_range)
+        } else {
+            orient(short.side, boundaries[j].side, short_range, long_range)
+        };
+        out.push(shared);
     }
+    out.sort_by_key(|e| (e.a.patch, e.b.patch, e.a.side as u8, e.b.side as u8));
     out.extend(closing_seams(patches, tol, samples, min_fraction));
     out
+}
+
+/// Ranges `(on short, on long)` of an overlap and the fraction of `short`'s domain it covers.
+type Overlap = ((f64, f64), (f64, f64));
+
+/// Among `candidates` (indices whose curves `curve_of` gives), the one `short` lies on
+/// over the largest part of its domain, with the overlap; the scan stops at the first
+/// that covers all of it.
+pub(crate) fn best_partner<'c>(
+    candidates: impl Iterator<Item = usize>,
+    short: &NurbsCurve,
+    curve_of: impl Fn(usize) -> &'c NurbsCurve,
+    tol: f64,
+    samples: usize,
+    min_fraction: f64,
+) -> Option<(usize, Overlap)> {
+    let d = short.domain();
+    let span = (d.end() - d.start()).abs().max(f64::MIN_POSITIVE);
+    let mut best: Option<(usize, Overlap, f64)> = None;
+    for j in candidates {
+        let Some(o) = overlap(short, curve_of(j), tol, samples, min_fraction) else { continue };
+        let cover = (o.0 .1 - o.0 .0).abs() / span;
+        if best.as_ref().is_none_or(|b| cover > b.2) {
+            best = Some((j, o, cover));
+        }
+        if cover >= 1.0 - 1e-9 {
+            break;
+        }
+    }
+    best.map(|(j, o, _)| (j, o))
 }
 
 /// The closing seams of faces closed in u or v (a blade's section loop, a full
@@ -176,6 +215,8 @@ pub(crate) fn overlap(
     let mut first: Option<(f64, f64)> = None;
     let mut last: Option<(f64, f64)> = None;
     let mut matched = 0;
+    // Once more samples have missed than `min_fraction` allows, the answer is no.
+    let allowed_misses = samples as f64 * (1.0 - min_fraction);
     for i in 0..samples {
         let t = t0 + (t1 - t0) * i as f64 / (samples - 1) as f64;
         let pr = long.project(&short.eval(t), tol * 1e-3);
@@ -185,6 +226,8 @@ pub(crate) fn overlap(
                 first = Some((t, pr.t));
             }
             last = Some((t, pr.t));
+        } else if (i + 1 - matched) as f64 > allowed_misses {
+            return None;
         }
     }
     if (matched as f64) < min_fraction * samples as f64 {

@@ -6,7 +6,8 @@ use cadmorph_brep::EntityRef;
 use cadmorph_nurbs::math::Point3;
 use cadmorph_nurbs::{Aabb, Curve, CurveProject, NurbsCurve, NurbsSurface, Projection, Surface, SurfaceProject};
 
-use crate::adjacency::overlap;
+use crate::adjacency::best_partner;
+use crate::index::BoxIndex;
 use crate::measure::{angle_deg, oriented_normal, Acc, EdgeEnd, EdgeReport, Face};
 use crate::SharedBoundary;
 
@@ -60,6 +61,7 @@ impl TrimEdge {
         let pts: Vec<(f64, Point3<f64>)> = self.params(n).map(|t| (t, self.curve.eval(t))).collect();
         let scale = pts.windows(2).map(|w| (w[1].1 - w[0].1).norm()).sum::<f64>().max(f64::MIN_POSITIVE);
         let ptol = 1e-12 * scale;
+        let known = known_points(surface);
         let mut prev: Option<Projection> = None;
         let mut out = Vec::with_capacity(pts.len());
         for (t, p) in pts {
@@ -80,6 +82,19 @@ impl TrimEdge {
                 }
                 None => surface.project(&p, ptol),
             };
+            // No closest point is farther than a point of the surface we know: a search
+            // that ends farther has failed, and its distance is no measurement.
+            let bound = known.iter().map(|k| (k - p).norm()).fold(f64::INFINITY, f64::min);
+            let lost = |pr: &Projection| {
+                let d = pr.distance_sq.sqrt();
+                !(d.is_finite() && pr.u.is_finite() && pr.v.is_finite()) || d > bound * (1.0 + 1e-9) + ptol
+            };
+            // A local answer that lost its way gets the global search before giving up.
+            let pr = if lost(&pr) && prev.is_some() { surface.project(&p, ptol) } else { pr };
+            if lost(&pr) {
+                out.push((t, p, OnFace { u: f64::NAN, v: f64::NAN, point: p }));
+                continue;
+            }
             out.push((t, p, OnFace { u: pr.u, v: pr.v, point: pr.point }));
             prev = Some(pr);
         }
@@ -105,6 +120,13 @@ impl TrimEdge {
     }
 }
 
+/// Points of `s` on a 9 × 9 grid of its domain: upper bounds for closest-point distances.
+fn known_points(s: &NurbsSurface) -> Vec<Point3<f64>> {
+    let (ud, vd) = s.domain();
+    let at = |r: &std::ops::RangeInclusive<f64>, k: usize| r.start() + (r.end() - r.start()) * k as f64 / 8.0;
+    (0..9).flat_map(|i| (0..9).map(move |j| (i, j))).map(|(i, j)| s.eval(at(&ud, i), at(&vd, j))).collect()
+}
+
 /// One sample of [`EdgeSamples`]: edge parameter, `(u, v)` on the first face and on the
 /// second.
 pub type EdgeSample = (f64, (f64, f64), (f64, f64));
@@ -122,7 +144,8 @@ pub struct EdgeSamples {
     pub b: usize,
     /// The edge's entities in the file.
     pub label: Vec<EntityRef>,
-    /// Edge parameter, then `(u, v)` on the first and on the second face.
+    /// Edge parameter, then `(u, v)` on the first and on the second face; `NaN`
+    /// parameters where the edge point could not be taken to that face.
     pub at: Vec<EdgeSample>,
 }
 
@@ -159,12 +182,20 @@ pub fn measure_edge(faces: &[Face], edge: &TrimEdge, samples: usize) -> EdgeRepo
 pub fn measure_edge_samples(faces: &[Face], s: &EdgeSamples) -> EdgeReport {
     let (fa, fb) = (&faces[s.a], &faces[s.b]);
     let (sa, sb) = (fa.surface, fb.surface);
-    let pts: Vec<(Point3<f64>, Point3<f64>)> =
-        s.at.iter().map(|(_, (ua, va), (ub, vb))| (sa.eval(*ua, *va), sb.eval(*ub, *vb))).collect();
-    let length = pts.windows(2).map(|w| (w[1].0 - w[0].0).norm()).sum::<f64>();
+    // Samples with a failed projection (NaN parameters) are not measured: counted by
+    // the report, never a gap.
+    let pts: Vec<Option<(Point3<f64>, Point3<f64>)>> =
+        s.at.iter()
+            .map(|(_, (ua, va), (ub, vb))| {
+                [ua, va, ub, vb].iter().all(|x| x.is_finite()).then(|| (sa.eval(*ua, *va), sb.eval(*ub, *vb)))
+            })
+            .collect();
+    let measured: Vec<Point3<f64>> = pts.iter().flatten().map(|p| p.0).collect();
+    let length = measured.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f64>();
     let ptol = 1e-12 * length.max(f64::MIN_POSITIVE);
     let (mut gap_closest, mut gap_matched, mut g1, mut g1u) = (Acc::new(), Acc::new(), Acc::new(), Acc::new());
-    for ((t, (ua, va), (ub, vb)), (pa, pb)) in s.at.iter().zip(&pts) {
+    for ((t, (ua, va), (ub, vb)), p) in s.at.iter().zip(&pts) {
+        let Some((pa, pb)) = p else { continue };
         let matched = (pa - pb).norm();
         gap_matched.add(matched, *pa, *t);
         let to_b = sb.project_from(pa, (*ub, *vb), ptol);
@@ -184,7 +215,13 @@ pub fn measure_edge_samples(faces: &[Face], s: &EdgeSamples) -> EdgeReport {
 /// Pairs of trimming curves of different faces that lie on each other within `tol`
 /// over at least `min_fraction` of the shorter one (sampled at `samples` points): the
 /// shared edges of faces that carry no topology. Each edge is the shorter curve over
-/// its matched part; its label joins both curves' labels.
+/// its matched part; its label joins both curves' labels. Curves that merely touch
+/// another (less than `min_fraction` of the shorter on it) do not pair.
+///
+/// Each curve is sampled onto the curves at least as long as it that a bounding-box
+/// index finds near it and keeps the one it lies on over the largest part (see
+/// [`shared_boundaries`](crate::shared_boundaries)): near-linear in the number of
+/// curves, and `k` coincident copies give `k − 1` edges.
 pub fn shared_curves(curves: &[TrimCurve], tol: f64, samples: usize, min_fraction: f64) -> Vec<TrimEdge> {
     let samples = samples.max(3);
     let boxes: Vec<(Aabb, f64)> = curves
@@ -197,24 +234,69 @@ pub fn shared_curves(curves: &[TrimCurve], tol: f64, samples: usize, min_fractio
             (c.curve.bounding_box().inflated(tol), pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum())
         })
         .collect();
+    let index = BoxIndex::new(boxes.iter().map(|b| &b.0));
     let mut out = Vec::new();
     for i in 0..curves.len() {
-        for j in i + 1..curves.len() {
-            let (a, b) = (&curves[i], &curves[j]);
-            if a.patch == b.patch || boxes[i].1 <= tol || boxes[j].1 <= tol {
-                continue;
-            }
-            if boxes[i].0.intersection(&boxes[j].0).is_none() {
-                continue;
-            }
-            let (short, long) = if boxes[i].1 <= boxes[j].1 { (a, b) } else { (b, a) };
-            let Some((range, _)) = overlap(&short.curve, &long.curve, tol, samples, min_fraction) else {
-                continue;
-            };
-            let label: Vec<EntityRef> = a.label.iter().chain(&b.label).copied().collect();
-            let range = (range.0.min(range.1), range.0.max(range.1));
-            out.push(TrimEdge { a: a.patch, b: b.patch, curve: short.curve.clone(), range, label });
+        let len = boxes[i].1;
+        if len <= tol || !len.is_finite() {
+            continue;
         }
+        let candidates = index
+            .overlapping(&boxes[i].0)
+            .into_iter()
+            .filter(|&j| curves[j].patch != curves[i].patch && (boxes[j].1, j) > (len, i));
+        let best = best_partner(candidates, &curves[i].curve, |j| &curves[j].curve, tol, samples, min_fraction);
+        let Some((j, (range, _))) = best else { continue };
+        let (a, b) = if i < j { (&curves[i], &curves[j]) } else { (&curves[j], &curves[i]) };
+        let label: Vec<EntityRef> = a.label.iter().chain(&b.label).copied().collect();
+        let range = (range.0.min(range.1), range.0.max(range.1));
+        out.push(TrimEdge { a: a.patch, b: b.patch, curve: curves[i].curve.clone(), range, label });
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::SeamReport;
+
+    fn squares() -> (NurbsSurface, NurbsSurface) {
+        let a = NurbsSurface::bilinear([[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.]]);
+        let b = NurbsSurface::bilinear([[1., 0., 0.], [2., 0., 0.], [1., 1., 0.], [2., 1., 0.]]);
+        (a, b)
+    }
+
+    #[test]
+    fn failed_projections_are_not_measured_not_gaps() {
+        let (a, b) = squares();
+        let faces = [Face { surface: &a, reversed: false }, Face { surface: &b, reversed: false }];
+        // The shared side x = 1 at 5 samples, the middle one's projection lost.
+        let mut at: Vec<EdgeSample> =
+            (0..5).map(|k| (k as f64 / 4.0, (1.0, k as f64 / 4.0), (0.0, k as f64 / 4.0))).collect();
+        at[2].1 = (f64::NAN, f64::NAN);
+        let s = EdgeSamples { a: 0, b: 1, label: Vec::new(), at };
+        let r = measure_edge_samples(&faces, &s);
+        assert_eq!(r.unmeasured, 1);
+        assert!(r.gap_closest.max.is_finite() && r.gap_closest.max < 1e-12, "{:?}", r.gap_closest);
+        // Every sample lost: the edge is "not measured", and counts in no total.
+        let all = EdgeSamples { at: s.at.iter().map(|x| (x.0, (f64::NAN, f64::NAN), x.2)).collect(), ..s };
+        let r = measure_edge_samples(&faces, &all);
+        assert_eq!(r.unmeasured, 5);
+        let report = SeamReport::new(vec![r]);
+        assert!(report.table().contains("not measured"), "{}", report.table());
+        assert_eq!(report.max_gap_closest, 0.0);
+    }
+
+    #[test]
+    fn edge_points_on_the_face_are_all_measured() {
+        let (a, b) = squares();
+        let faces = [Face { surface: &a, reversed: false }, Face { surface: &b, reversed: false }];
+        let curve = a.boundary(cadmorph_nurbs::Side::UMax);
+        let d = curve.domain();
+        let e = TrimEdge { a: 0, b: 1, curve, range: (*d.start(), *d.end()), label: Vec::new() };
+        let r = measure_edge(&faces, &e, 20);
+        assert_eq!(r.unmeasured, 0);
+        assert!(r.gap_closest.max < 1e-12);
+        assert!((r.length - 1.0).abs() < 1e-12);
+    }
 }

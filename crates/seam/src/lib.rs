@@ -31,6 +31,7 @@ mod area;
 mod check;
 mod edge;
 mod error;
+mod index;
 mod measure;
 mod refine;
 mod repair;

@@ -108,6 +108,10 @@ pub struct EdgeReport {
     pub c1_mismatch: Option<Stat>,
     /// See the type docs.
     pub sharp: bool,
+    /// Samples where the edge point could not be taken to a face (the closest-point
+    /// search ended farther than a known point of the face): left out of every number
+    /// above, never reported as a gap. When all are, the edge is "not measured".
+    pub unmeasured: usize,
 }
 
 /// Every shared edge of a model, with the totals.
@@ -132,7 +136,7 @@ pub struct SeamReport {
 pub(crate) struct Acc {
     max: f64,
     sum: f64,
-    n: usize,
+    pub(crate) n: usize,
     at: Point3<f64>,
     t: f64,
 }
@@ -277,7 +281,9 @@ impl EdgeReport {
         c1_mismatch: Option<Stat>,
     ) -> Self {
         let g1_angle_unoriented_deg = g1u.stat();
+        let unmeasured = samples.saturating_sub(gap_matched.n);
         Self {
+            unmeasured,
             a,
             b,
             edge,
@@ -296,8 +302,12 @@ impl EdgeReport {
 impl SeamReport {
     /// Collects edge reports and their totals.
     pub fn new(edges: Vec<EdgeReport>) -> Self {
-        let max = |f: fn(&EdgeReport) -> f64| edges.iter().map(f).fold(0.0, f64::max);
-        let smooth = |f: fn(&EdgeReport) -> f64| edges.iter().filter(|e| !e.sharp).map(f).fold(0.0, f64::max);
+        // An edge none of whose samples could be measured has no numbers to count.
+        let max =
+            |f: fn(&EdgeReport) -> f64| edges.iter().filter(|e| e.unmeasured < e.samples).map(f).fold(0.0, f64::max);
+        let smooth = |f: fn(&EdgeReport) -> f64| {
+            edges.iter().filter(|e| !e.sharp && e.unmeasured < e.samples).map(f).fold(0.0, f64::max)
+        };
         Self {
             max_gap_closest: max(|e| e.gap_closest.max),
             max_gap_matched: max(|e| e.gap_matched.max),
@@ -333,6 +343,24 @@ impl SeamReport {
             "face a", "face b", "length", "gap closest", "gap matched", "gap mean", "G1 (deg)", "C1 rel"
         );
         for e in &self.edges {
+            let labels = e.edge.iter().map(ToString::to_string).collect::<Vec<_>>().join(" / ");
+            if e.unmeasured >= e.samples {
+                let _ = writeln!(
+                    out,
+                    "{:<7} {:<7} {:>10} {:>12}  {}  (the edge's points could not be taken to its faces)",
+                    side(&e.a),
+                    side(&e.b),
+                    "-",
+                    "not measured",
+                    labels
+                );
+                continue;
+            }
+            let labels = if e.unmeasured > 0 {
+                format!("{labels} ({} of {} samples not measured)", e.unmeasured, e.samples)
+            } else {
+                labels
+            };
             let c1 = e.c1_mismatch.map_or_else(|| "-".to_owned(), |c| format!("{:.3e}", c.max));
             let _ = writeln!(
                 out,
@@ -346,7 +374,7 @@ impl SeamReport {
                 e.g1_angle_deg.max,
                 if e.sharp { '*' } else { ' ' },
                 c1,
-                e.edge.iter().map(ToString::to_string).collect::<Vec<_>>().join(" / ")
+                labels
             );
         }
         let _ = writeln!(

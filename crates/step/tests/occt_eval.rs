@@ -199,6 +199,18 @@ fn analytic_faces_match_occt_evaluation() {
     assert_eq!(n, 14 * 25);
 }
 
+/// Issue 22: every placed face of the inch assemblies (parts placed by
+/// NEXT_ASSEMBLY_USAGE_OCCURRENCE, CONTEXT_DEPENDENT_SHAPE_REPRESENTATION and
+/// ITEM_DEFINED_TRANSFORMATION, repeated and nested) is where OCCT puts it.
+#[test]
+#[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
+fn assembly_faces_match_occt_evaluation() {
+    for name in ["assembly_ap203.stp", "assembly_ap214.stp"] {
+        let n = occt_matches_analytic_faces(name);
+        assert_eq!(n, 30 * 25, "{name}");
+    }
+}
+
 #[test]
 fn curve_evaluation_api() {
     let doc = load("nurbs_arc.stp");
