@@ -99,8 +99,7 @@ impl ExactFfd {
     /// Whether every control point lies in the closed box and every weight is positive:
     /// then the whole curve or surface does (convex hull), and its image is exact.
     fn holds(&self, points: &[Point3<f64>], weights: Option<&[f64]>) -> bool {
-        weights.is_none_or(|w| w.iter().all(|&w| w > 0.0))
-            && points.iter().all(|p| self.volume.contains(p, INSIDE_TOL))
+        weights.is_none_or(|w| w.iter().all(|&w| w > 0.0)) && points.iter().all(|p| self.volume.contains(p, INSIDE_TOL))
     }
 
     /// Whether `s` lies in the box (see [`holds`](Self::holds)) and the FFD moves anything.
@@ -121,7 +120,8 @@ impl ExactFfd {
     /// The kernel's [`ComposedDegree`](cadmorph_nurbs::Error::ComposedDegree) (above
     /// degree 25) or a non-finite result, as [`Error::Exact`] naming `entity`.
     pub fn surface(&self, s: &NurbsSurface, entity: EntityRef) -> Result<(NurbsSurface, usize, f64)> {
-        let mut r = s.composed_with(&self.volume).map_err(|source| Error::Exact { what: format!("face {entity}"), source })?;
+        let mut r =
+            s.composed_with(&self.volume).map_err(|source| Error::Exact { what: format!("face {entity}"), source })?;
         let composed = r.control_points().len();
         let bound = if self.removal_tol > 0.0 { r.remove_knots_within(self.removal_tol).bound } else { 0.0 };
         Ok((r, composed, bound))
@@ -133,7 +133,8 @@ impl ExactFfd {
     ///
     /// As [`surface`](Self::surface).
     pub fn curve(&self, c: &NurbsCurve, entity: EntityRef) -> Result<NurbsCurve> {
-        let mut r = c.composed_with(&self.volume).map_err(|source| Error::Exact { what: format!("curve {entity}"), source })?;
+        let mut r =
+            c.composed_with(&self.volume).map_err(|source| Error::Exact { what: format!("curve {entity}"), source })?;
         if self.removal_tol > 0.0 {
             r.remove_knots_within(self.removal_tol);
         }
@@ -198,4 +199,3 @@ impl<D: CadDocument> Model<D> {
         Ok((outcome, report))
     }
 }
-

@@ -304,8 +304,8 @@ impl<D: CadDocument> Model<D> {
             // IGES trimming curves are traced on the exact face instead: OCCT's IGES reader
             // re-parameterizes each against its parameter-space curve, and fails on the
             // exact image of a conic arc (edge tolerance 0.14 mm on mixed_solid.igs).
-            let exact_here = step
-                && exact.as_ref().is_some_and(|(e, inside, _)| inside[b.face] && e.holds_curve(&b.curve));
+            let exact_here =
+                step && exact.as_ref().is_some_and(|(e, inside, _)| inside[b.face] && e.holds_curve(&b.curve));
             if traced.contains(&target) || !(exact_here || moved_by(d, b.curve.control_points())) {
                 continue;
             }

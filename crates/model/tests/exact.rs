@@ -146,7 +146,10 @@ fn zero_morph_composition_is_the_identity() {
     let m = open("hull3.igs");
     let s = &m.patches()[2].surface;
     let r = s.composed_with(exact.volume()).unwrap();
-    let worst = cadmorph_testkit::grid(s, 11).into_iter().map(|(u, v)| (r.eval(u, v) - s.eval(u, v)).norm()).fold(0.0, f64::max);
+    let worst = cadmorph_testkit::grid(s, 11)
+        .into_iter()
+        .map(|(u, v)| (r.eval(u, v) - s.eval(u, v)).norm())
+        .fold(0.0, f64::max);
     assert!(worst <= EXACT * m.size(), "{worst:e}");
 }
 
@@ -178,8 +181,10 @@ fn exact_takes_no_repair_or_uniform_knots() {
     let f = ffd("prm/solid_trilinear.toml");
     let mut m = open("mixed_solid.stp");
     let exact = ExactFfd::new(&f, 0.0).unwrap();
-    for opts in [MorphOptions { repair: true, ..Default::default() }, MorphOptions { uniform_knots: Some(30), ..Default::default() }]
-    {
+    for opts in [
+        MorphOptions { repair: true, ..Default::default() },
+        MorphOptions { uniform_knots: Some(30), ..Default::default() },
+    ] {
         assert!(matches!(m.morph_exact(&f, &exact, &opts, &Silent), Err(Error::Unsupported(_))));
     }
     assert!(ExactFfd::new(&f, -1.0).is_err() && ExactFfd::new(&f, f64::NAN).is_err());
@@ -193,8 +198,7 @@ fn exact_takes_no_repair_or_uniform_knots() {
 fn occt_reads_exact_outputs_as_valid_and_as_the_pointwise_ffd() {
     let dir = std::env::temp_dir().join(format!("cadmorph-exact-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let uv: Vec<[f64; 2]> =
-        (0..=6).flat_map(|i| (0..=6).map(move |j| [i as f64 / 6.0, j as f64 / 6.0])).collect();
+    let uv: Vec<[f64; 2]> = (0..=6).flat_map(|i| (0..=6).map(move |j| [i as f64 / 6.0, j as f64 / 6.0])).collect();
     let request = dir.join("request.json");
     std::fs::write(&request, serde_json::json!({ "uv": uv, "normalized": true }).to_string()).unwrap();
     for (name, prm) in [

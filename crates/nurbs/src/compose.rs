@@ -288,9 +288,7 @@ impl Bernstein<Hom> {
 
 /// `w[a][i] = C(p₁, a) C(p₂, i) / C(p₁ + p₂, a + i)`.
 fn product_weights(p1: usize, p2: usize) -> Vec<Vec<f64>> {
-    (0..=p1)
-        .map(|a| (0..=p2).map(|i| binomial(p1, a) * binomial(p2, i) / binomial(p1 + p2, a + i)).collect())
-        .collect()
+    (0..=p1).map(|a| (0..=p2).map(|i| binomial(p1, a) * binomial(p2, i) / binomial(p1 + p2, a + i)).collect()).collect()
 }
 
 /// Knot values with the multiplicity each needs after composition: `d + 1` at the ends

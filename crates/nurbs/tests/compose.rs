@@ -61,14 +61,8 @@ fn surface(p: usize, q: usize, rational: bool, seed: u64) -> NurbsSurface {
             w.push(rng.gen_range(0.5..2.0));
         }
     }
-    NurbsSurface::try_new(
-        (p, q),
-        (knots(p, n_u, true), knots(q, n_v, false)),
-        (n_u, n_v),
-        pts,
-        rational.then_some(w),
-    )
-    .expect("valid surface")
+    NurbsSurface::try_new((p, q), (knots(p, n_u, true), knots(q, n_v, false)), (n_u, n_v), pts, rational.then_some(w))
+        .expect("valid surface")
 }
 
 fn size(s: &NurbsSurface) -> f64 {
