@@ -60,7 +60,7 @@ pub struct Args {
     /// p·(l+m+n) for an (l+1)×(m+1)×(n+1) lattice; refused above 25, OCCT's limit), then
     /// knot removal within --exact-tol; faces crossing the box are morphed (and refined
     /// with --refine-tol) as without it.
-    #[arg(long, requires = "ffd", conflicts_with_all = ["repair", "uniform_knots"])]
+    #[arg(long, conflicts_with_all = ["repair", "uniform_knots"])]
     exact: bool,
     /// With --exact: how far knot removal may move an exact face, model units.
     /// Default: 1e-13 × the model size.
@@ -90,6 +90,9 @@ pub fn run(a: Args) -> Result<()> {
         (_, _, Some(p)) => (p, "idw"),
         _ => bail!("one of --ffd, --rbf, --idw is needed"),
     };
+    if a.exact && kind != "ffd" {
+        bail!("--exact composes an FFD's Bernstein volume with the faces; --{kind} has none (use --ffd)");
+    }
     let d = crate::params::deformation(path, Some(kind))?;
     let mut m = cadmorph::open(&a.input)?;
     crate::skipped::check(&m.info().skipped, a.skip_unsupported)?;
