@@ -77,7 +77,7 @@ pub struct Args {
     /// p·(l+m+n) for an (l+1)×(m+1)×(n+1) lattice; refused above 25, OCCT's limit), then
     /// knot removal within --exact-tol; faces crossing the box are morphed (and refined
     /// with --refine-tol) as without it.
-    #[arg(long, requires = "ffd", conflicts_with_all = ["repair", "uniform_knots"])]
+    #[arg(long, conflicts_with_all = ["repair", "uniform_knots"])]
     exact: bool,
     /// With --exact: how far knot removal may move an exact face, model units.
     /// Default: 1e-13 × the model size.

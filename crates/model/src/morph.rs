@@ -350,6 +350,23 @@ impl<D: CadDocument> Model<D> {
                     }
                     None => {
                         let mut target = refined_like(&face.surface, r, &b);
+                        // A morphed plane or cylinder is at least cubic in both directions:
+                        // moving the control points of a bilinear net keeps it a bilinear
+                        // (ruled) patch, while the morph bends it. Elevation (A5.9) keeps
+                        // the geometry and the parameters, so seams are measured where
+                        // they were.
+                        // Only unrefined forms: a refined, elevated plane's iso edges are
+                        // not found again by a fresh seam check of the STEP output (the
+                        // failure of the earlier attempt; not understood yet).
+                        let unrefined = target == b;
+                        let (p, q) = if unrefined { (target.u_degree(), target.v_degree()) } else { (3, 3) };
+                        target
+                            .elevate_u_degree(3usize.saturating_sub(p))
+                            .and_then(|()| target.elevate_v_degree(3usize.saturating_sub(q)))
+                            .map_err(|source| Error::Exact {
+                                what: format!("face {} (elevation to cubic)", face.entity),
+                                source,
+                            })?;
                         // Curves are traced from this form (its parameters), not from the patch.
                         *unmoved.last_mut().expect("pushed above") = target.clone();
                         d.deform(target.control_points_mut());

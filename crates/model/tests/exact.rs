@@ -252,3 +252,24 @@ fn occt_reads_exact_outputs_as_valid_and_as_the_pointwise_ffd() {
         assert!(compared > 0, "{name}: no B-spline face compared");
     }
 }
+
+/// Without --exact, morphed planes and cylinders are elevated to at least cubic before
+/// their control points move (a bilinear net stays a ruled patch), and the edges are
+/// still the solid's 29, in the morph's report and in a fresh check of the written file.
+#[test]
+fn morphed_planes_and_cylinders_are_at_least_cubic_and_seams_still_match() {
+    let f = ffd("prm/solid_trilinear.toml");
+    for name in ["mixed_solid.stp", "mixed_solid.igs"] {
+        let mut m = open(name);
+        let analytic: Vec<bool> = m.patches().iter().map(|p| p.kind.is_analytic()).collect();
+        let o = m.morph(&f, &MorphOptions::default()).unwrap();
+        for (p, was) in m.patches().iter().zip(analytic) {
+            if was {
+                assert!(p.surface.u_degree() >= 3 && p.surface.v_degree() >= 3, "{name} {}", p.entity);
+            }
+        }
+        assert_eq!(o.seams_after.edges.len(), 29, "{name}");
+        let fresh = Model::new(m.document().read_back().unwrap()).unwrap().seams(50);
+        assert_eq!(fresh.edges.len(), 29, "{name}: {}", fresh.table());
+    }
+}

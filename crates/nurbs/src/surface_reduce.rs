@@ -58,7 +58,7 @@ impl NurbsSurface {
         };
         let mut current = self.clone();
         let mut result = KnotRemoval { removed: 0, bound: 0.0 };
-        if !(tol >= 0.0) {
+        if tol.is_nan() || tol < 0.0 {
             return result;
         }
         for direction in [true, false] {
