@@ -81,9 +81,12 @@ fn mixed_solid_edges_from_topology_agree_with_occt() {
         let m = open(name);
         // OCCT's own check takes 50 samples per edge, evenly spaced in the edge parameter.
         let r = m.seams(50);
+        // OCCT's check lists edges between two faces; the cylinder's own closing seam
+        // (one face on both sides) is measured too, and left out here.
         let mut ours: Vec<((u64, u64), f64, f64, f64)> = r
             .edges
             .iter()
+            .filter(|e| e.a.patch != e.b.patch)
             .map(|e| {
                 let (a, b) = (e.a.patch as u64, e.b.patch as u64);
                 ((a.min(b), a.max(b)), e.g1_angle_deg.max, e.length, e.gap_matched.max)
@@ -223,14 +226,19 @@ fn mixed_solid_refinement_keeps_topology_edges_closed() {
         let r = refined.morph(&ffd, &opts).unwrap();
         let refinement = r.refinement.as_ref().unwrap();
         assert!(refinement.converged, "{name}: {refinement:?}");
-        assert!(none.seams_after.max_gap_closest > 10.0 * tol, "{name}: {}", none.seams_after.max_gap_closest);
+        // Unrefined, the seams open by more than tol (by more than 10 tol where the file
+        // names its edges; the IGES trims alone pair fewer edges, 0.043 mm at most).
+        let factor = if name == "mixed_solid.igs" { 1.0 } else { 10.0 };
+        assert!(none.seams_after.max_gap_closest > factor * tol, "{name}: {}", none.seams_after.max_gap_closest);
         assert!(r.seams_after.max_gap_closest <= tol, "{name}: {}", r.seams_after.max_gap_closest);
         assert!(r.control_points_after > none.control_points_after, "{name}");
-        assert_eq!(r.seams_after.edges.len(), 29, "{name}");
+        // 29 edges between two faces and the cylinder's closing seam.
+        assert_eq!(r.seams_after.edges.len(), 30, "{name}");
+        assert_eq!(r.seams_after.edges.iter().filter(|e| e.a.patch == e.b.patch).count(), 1, "{name}");
         // The written edge curves lie on the morphed faces: measured afresh from the
         // file, edges found from its curves, the seams are as closed
         let fresh = reread(&refined).seams(50);
-        assert_eq!(fresh.edges.len(), 29, "{name}: {}", fresh.table());
+        assert_eq!(fresh.edges.len(), 30, "{name}: {}", fresh.table());
         assert!(fresh.max_gap_closest <= tol, "{name}: {}", fresh.max_gap_closest);
     }
 }
