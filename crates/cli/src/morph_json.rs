@@ -33,6 +33,9 @@ pub fn print(
             "max_angle_deg": r.max_angle_deg,
             "control_points_before": r.control_points_before,
             "control_points_after": r.control_points_after,
+            "max_gap_growth": r.max_gap_growth,
+            "max_angle_growth_deg": r.max_angle_growth_deg,
+            "input_defects": r.input_defects,
         })
     });
     crate::schema::print(
@@ -51,6 +54,8 @@ pub fn print(
             "refinement": refinement,
             "seams_before": crate::seam_report::json(&o.seams_before, m.patches(), &none),
             "seams_after": crate::seam_report::json(&o.seams_after, m.patches(), &none),
+            "check": serde_json::to_value(&o.check)?,
+            "repair": serde_json::to_value(&o.repair)?,
             "exact": exact,
         }),
     )
