@@ -19,7 +19,7 @@ use crate::Result;
 pub fn bin_counts(values: &[f64], range: &Range<f64>, bins: usize) -> Vec<usize> {
     let mut counts = vec![0; bins];
     let w = range.end - range.start;
-    if bins == 0 || !(w > 0.0) {
+    if bins == 0 || w.is_nan() || w <= 0.0 {
         return counts;
     }
     for &v in values.iter().filter(|v| v.is_finite() && range.start <= **v && **v <= range.end) {
