@@ -10,6 +10,8 @@ use anyhow::{bail, Context, Result};
 use cadmorph::blade::export::{iges_solids, step_solids};
 use cadmorph::blade::{errors_txt, export_ppg, reverse, BladeSolid, DesignTable, ParamFile, Propeller};
 use cadmorph::model::write_atomic;
+use cadmorph_report::profiles::profiles_svg;
+use cadmorph_report::radial::radial_laws_svg;
 use clap::Subcommand;
 
 /// The blade subcommands.
@@ -37,6 +39,9 @@ pub enum BladeCommand {
         /// Print a JSON report (section errors, seam gaps, volume, area, timings).
         #[arg(long)]
         json: bool,
+        /// Also write an SVG plot of the blade's sections (`profiles.svg`) into this folder.
+        #[arg(long)]
+        plots: Option<PathBuf>,
     },
     /// Build a propeller (blades of the table around the x axis and a cylinder hub).
     Propeller {
@@ -87,6 +92,10 @@ pub enum BladeCommand {
         /// Sampling tolerance per law (chord, pitch, rake, skew, camber).
         #[arg(long, value_delimiter = ',', default_value = "1e-3,1e-3,1e-2,1e-2,1e-2")]
         tol: Vec<f64>,
+        /// Also write an SVG plot per radial law (`law_chord.svg`, ...: original and
+        /// deformed, with their control points) into this folder.
+        #[arg(long)]
+        plots: Option<PathBuf>,
     },
 }
 
@@ -97,6 +106,14 @@ fn table(path: &Path, prm: Option<&Path>, rbf_points: usize) -> Result<DesignTab
         t.deform(&f, rbf_points).with_context(|| format!("applying {}", p.display()))?;
     }
     Ok(t)
+}
+
+/// Writes `svg` as `dir/name` (creating `dir`) through the atomic writer.
+fn write_plot(dir: &Path, name: &str, svg: &str) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let path = dir.join(name);
+    write_atomic(&path, svg.as_bytes()).with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
 }
 
 fn is_step(path: &Path) -> Result<bool> {
@@ -115,7 +132,7 @@ fn is_step(path: &Path) -> Result<bool> {
 /// section, or the file line), unwritable outputs.
 pub fn run(cmd: BladeCommand) -> Result<()> {
     match cmd {
-        BladeCommand::Build { table: path, output, prm, rbf_points, errors, ppg, json } => {
+        BladeCommand::Build { table: path, output, prm, rbf_points, errors, ppg, json, plots } => {
             let t0 = Instant::now();
             let t = table(&path, prm.as_deref(), rbf_points)?;
             let blade = t.blade()?;
@@ -136,6 +153,12 @@ pub fn run(cmd: BladeCommand) -> Result<()> {
             }
             if let Some(p) = &ppg {
                 write_atomic(p, export_ppg(&blade, diameter, 2.0 * blade.radii[0], 1, false)?.as_bytes())?;
+            }
+            if let Some(dir) = &plots {
+                let named: Vec<(String, &cadmorph::blade::Profile)> =
+                    blade.radii.iter().zip(&blade.sections).map(|(r, p)| (format!("r = {r}"), p)).collect();
+                let svg = profiles_svg(&format!("{} sections", t.name), &named, 900, 500)?;
+                write_plot(dir, "profiles.svg", &svg)?;
             }
             let sections = solid.section_errors(&coords)?;
             let worst = sections.iter().map(|s| s.upper.max(s.lower)).fold(0.0, f64::max);
@@ -235,11 +258,16 @@ pub fn run(cmd: BladeCommand) -> Result<()> {
             }
             Ok(())
         }
-        BladeCommand::Deform { prm, output, rbf_points, tol } => {
+        BladeCommand::Deform { prm, output, rbf_points, tol, plots } => {
             let f = ParamFile::read_any(&prm).with_context(|| format!("reading {}", prm.display()))?;
             let tol: [f64; 5] = tol.try_into().map_err(|_| anyhow::anyhow!("--tol takes five values"))?;
             let d = cadmorph::blade::Deformation::compute_all(f, rbf_points, tol)?;
             d.deformed_param_file().write(&output)?;
+            if let Some(dir) = &plots {
+                for (p, svg) in radial_laws_svg(&d.laws, &d.deformed_laws, 720, 480)? {
+                    write_plot(dir, &format!("law_{}.svg", p.name()), &svg)?;
+                }
+            }
             println!("{} -> {}", prm.display(), output.display());
             Ok(())
         }

@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! cadmorph mesh morph IN -o OUT --ffd|--rbf|--idw PARAMS [--allow-degrade] [--json]
-//! cadmorph mesh check IN [--json]
+//! cadmorph mesh check IN [--json] [--histograms DIR [--after OUT]]
 //! ```
 //!
 //! `IN`/`OUT` are an OpenFOAM case or `polyMesh` directory, or a `.unv`, `.k`, `.mdpa`,
@@ -15,7 +15,9 @@ use anyhow::{bail, Context, Result};
 use cadmorph::mesh::morph::morph_file;
 use cadmorph::mesh::quality::Quality;
 use cadmorph::mesh::MeshFile;
+use cadmorph::model::write_atomic;
 use cadmorph::morph::{Deformation, Parameters};
+use cadmorph_report::histogram::{histogram_svg, quality_samples};
 use clap::{Args, Subcommand};
 
 /// `cadmorph mesh` subcommands.
@@ -31,6 +33,13 @@ pub enum MeshCommand {
         /// Print JSON instead of a table.
         #[arg(long)]
         json: bool,
+        /// Also write SVG histograms of the per-face and per-cell quality (non-orthogonality,
+        /// aspect ratio, cell volume) into this folder.
+        #[arg(long)]
+        histograms: Option<PathBuf>,
+        /// The morphed mesh to draw as "after" in the histograms (INPUT is "before").
+        #[arg(long, requires = "histograms")]
+        after: Option<PathBuf>,
     },
 }
 
@@ -78,12 +87,38 @@ fn law(path: &Path, expect: &str) -> Result<Box<dyn Deformation + Send>> {
 /// Run a `cadmorph mesh` subcommand.
 pub fn run(cmd: MeshCommand) -> Result<()> {
     match cmd {
-        MeshCommand::Check { input, json } => {
-            let file = MeshFile::read(&input).with_context(|| format!("reading {}", input.display()))?;
-            let Some(mesh) = file.volume_mesh()? else {
-                bail!("{} has no volume cells to check", input.display());
+        MeshCommand::Check { input, json, histograms, after } => {
+            let read = |path: &Path| -> Result<_> {
+                let file = MeshFile::read(path).with_context(|| format!("reading {}", path.display()))?;
+                let Some(mesh) = file.volume_mesh()? else {
+                    bail!("{} has no volume cells to check", path.display());
+                };
+                Ok(mesh)
             };
+            let mesh = read(&input)?;
             let q = Quality::of(&mesh);
+            if let Some(dir) = &histograms {
+                let before = quality_samples(&mesh);
+                let after = after.as_deref().map(|p| read(p).map(|m| quality_samples(&m))).transpose()?;
+                std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+                for (k, (name, values)) in before.iter().enumerate() {
+                    let other = after.as_ref().map(|a| a[k].1.as_slice());
+                    if values.iter().chain(other.into_iter().flatten()).all(|v| !v.is_finite()) {
+                        eprintln!("{}: no {name} values (no internal faces?): no histogram", input.display());
+                        continue;
+                    }
+                    let svg = histogram_svg(name, values, other, 30, 720, 440)?;
+                    let file: String = name
+                        .split(" (")
+                        .next()
+                        .unwrap_or(name)
+                        .chars()
+                        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+                        .collect();
+                    let path = dir.join(format!("{file}.svg"));
+                    write_atomic(&path, svg.as_bytes()).with_context(|| format!("writing {}", path.display()))?;
+                }
+            }
             if json {
                 println!("{}", q.to_json());
             } else {

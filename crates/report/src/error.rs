@@ -41,6 +41,17 @@ pub enum Error {
         /// The cause.
         source: std::io::Error,
     },
+    /// Nothing to plot, or the plotting backend failed.
+    #[error("plot {what}: {reason}")]
+    Plot {
+        /// Which plot.
+        what: String,
+        /// Why.
+        reason: String,
+    },
+    /// A blade law or profile could not be sampled.
+    #[error("blade: {0}")]
+    Blade(#[from] cadmorph_blade::Error),
     /// Serialising the embedded data failed.
     #[error("serialising report data: {0}")]
     Json(#[from] serde_json::Error),

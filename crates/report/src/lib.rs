@@ -16,6 +16,9 @@
 //! - [`campaign`]: the index page of a campaign: a thumbnail per variant, the results
 //!   table (sortable), failed and out-of-tolerance variants marked, and scatter plots of
 //!   each parameter against each result ([`plots`], SVG through the `plotters` crate).
+//! - Blade and mesh plots (SVG, `plotters`): [`radial`] the radial laws of a blade,
+//!   original and deformed, with their control points (the BladeX paper's Figure 7);
+//!   [`profiles`] the 2D sections; [`histogram`] mesh quality before and after.
 //!
 //! # Why a hand-written WebGL viewer
 //!
@@ -40,9 +43,12 @@ pub mod campaign;
 pub mod colour;
 pub mod gltf;
 pub mod grid;
+pub mod histogram;
 pub mod html;
 pub mod page;
 pub mod plots;
+pub mod profiles;
+pub mod radial;
 pub mod raster;
 pub mod render;
 pub mod scene;

@@ -1,0 +1,86 @@
+//! `blade deform --plots`, `blade build --plots` and `mesh check --histograms` through
+//! the binary: the SVG files they write and what is in them.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn cadmorph(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_cadmorph")).args(args).current_dir(root()).output().expect("the binary runs")
+}
+
+fn ok(out: &std::process::Output) {
+    assert!(out.status.success(), "{}\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("plots-{name}"));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn has_line(svg: &str, text: &str) -> bool {
+    svg.lines().any(|l| l.trim() == text)
+}
+
+#[test]
+fn blade_plots_write_every_law_and_the_sections() {
+    let d = scratch("blade");
+    let plots = d.join("plots");
+    let p = plots.to_str().unwrap();
+    ok(&cadmorph(&[
+        "blade",
+        "deform",
+        "samples/blade/deform.prm",
+        "-o",
+        d.join("d.prm").to_str().unwrap(),
+        "--plots",
+        p,
+    ]));
+    for law in ["chord", "pitch", "rake", "skew", "camber"] {
+        let svg = std::fs::read_to_string(plots.join(format!("law_{law}.svg"))).unwrap();
+        assert!(has_line(&svg, &format!("{law} law")) && has_line(&svg, "deformed control points"), "{law}");
+        assert!(svg.matches("<circle").count() >= 4, "{law}: control points drawn");
+    }
+    ok(&cadmorph(&[
+        "blade",
+        "build",
+        "samples/blade/tutorial.toml",
+        "-o",
+        d.join("b.stp").to_str().unwrap(),
+        "--plots",
+        p,
+    ]));
+    let svg = std::fs::read_to_string(plots.join("profiles.svg")).unwrap();
+    let labels = svg.lines().filter(|l| l.trim().starts_with("r = ")).count();
+    assert!(labels >= 2, "one legend entry per section, found {labels}");
+}
+
+#[test]
+fn mesh_histograms_before_and_after() {
+    let d = scratch("mesh");
+    let h = d.join("h");
+    let out = cadmorph(&[
+        "mesh",
+        "check",
+        "crates/cli/tests/data/one_hex.unv",
+        "--histograms",
+        h.to_str().unwrap(),
+        "--after",
+        "crates/cli/tests/data/one_hex.unv",
+    ]);
+    ok(&out);
+    // One cell, no internal face: no non-orthogonality histogram, and the command says so.
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no non-orthogonality"));
+    assert!(!h.join("non_orthogonality.svg").exists());
+    for name in ["aspect_ratio", "cell_volume"] {
+        let svg = std::fs::read_to_string(h.join(format!("{name}.svg"))).unwrap();
+        assert!(has_line(&svg, "before") && has_line(&svg, "after"), "{name}");
+    }
+    // --after needs --histograms.
+    assert!(!cadmorph(&["mesh", "check", "crates/cli/tests/data/one_hex.unv", "--after", "x.unv"]).status.success());
+}
