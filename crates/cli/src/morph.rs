@@ -120,6 +120,9 @@ pub fn run(a: Args) -> Result<()> {
         (_, _, _, Some(p)) => (p, Some("idw")),
         _ => bail!("give the parameter file (PARAMS, or one of --ffd, --rbf, --idw)"),
     };
+    if let Some(k) = kind.filter(|k| a.exact && *k != "ffd") {
+        bail!("--exact composes an FFD's Bernstein volume with the faces; --{k} has none (use --ffd)");
+    }
     let params = crate::overrides::apply(crate::params::read_as(path, kind)?, &a.set)?;
     let d = params.build().with_context(|| format!("building the morph of {}", path.display()))?;
     let mut m = cadmorph::open(&a.input)?;
@@ -187,8 +190,10 @@ pub fn run(a: Args) -> Result<()> {
     let bytes = if format == m.format() { m.to_bytes() } else { cadmorph::convert(&m, format)?.to_bytes() };
     let elapsed = start.elapsed().as_secs_f64();
     // The "after" report is the written file's, found and measured as `seams` would.
-    if format != m.format() {
-        outcome.seams_after = cadmorph::from_bytes(&bytes)?.seams(200);
+    // A converted output names its faces by its own entities.
+    let written = if format != m.format() { Some(cadmorph::from_bytes(&bytes)?) } else { None };
+    if let Some(w) = &written {
+        outcome.seams_after = w.seams(200);
     }
     if let Some(tol) = a.tol.or(a.refine_tol) {
         let check = SeamCheck::new(&outcome.seams_before, &outcome.seams_after, tol, a.angle_tol);
@@ -248,6 +253,7 @@ pub fn run(a: Args) -> Result<()> {
             &params,
             &m,
             &outcome,
+            written.as_ref(),
             json.get("exact").cloned(),
             elapsed,
         );

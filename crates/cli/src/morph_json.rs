@@ -12,7 +12,8 @@ use serde_json::json;
 
 use crate::seam_report::Check;
 
-/// Prints the document of a finished morph.
+/// Prints the document of a finished morph; `written` is the output read back when it
+/// is in another format than the input (its faces name the "after" seams).
 pub fn print(
     input: &Path,
     output: &Path,
@@ -20,6 +21,7 @@ pub fn print(
     params: &Parameters,
     m: &Model,
     o: &MorphOutcome,
+    written: Option<&Model>,
     exact: Option<serde_json::Value>,
     seconds: f64,
 ) -> Result<()> {
@@ -53,7 +55,7 @@ pub fn print(
             "curves_rewritten": o.curves_rewritten,
             "refinement": refinement,
             "seams_before": crate::seam_report::json(&o.seams_before, m.patches(), &none),
-            "seams_after": crate::seam_report::json(&o.seams_after, m.patches(), &none),
+            "seams_after": crate::seam_report::json(&o.seams_after, written.unwrap_or(m).patches(), &none),
             "check": serde_json::to_value(&o.check)?,
             "repair": serde_json::to_value(&o.repair)?,
             "exact": exact,

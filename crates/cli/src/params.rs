@@ -43,6 +43,10 @@ pub fn deformation(path: &Path, expect: Option<&str>) -> Result<Box<dyn Deformat
 pub fn ffd(path: &Path, params: &Parameters) -> Result<cadmorph::morph::Ffd> {
     match params {
         Parameters::Ffd(f) => Ok(f.clone()),
-        other => bail!("{} holds {} parameters; --exact needs an FFD", path.display(), kind_of(other)),
+        other => bail!(
+            "--exact composes an FFD's Bernstein volume with the faces; {} holds {} parameters",
+            path.display(),
+            kind_of(other)
+        ),
     }
 }

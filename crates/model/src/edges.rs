@@ -8,7 +8,7 @@ use std::collections::HashMap;
 use cadmorph_brep::{BoundCurve, EntityRef, Face};
 use cadmorph_nurbs::math::Point3;
 use cadmorph_nurbs::{Curve, NurbsSurface};
-use cadmorph_seam::{shared_boundaries, shared_curves, SharedBoundary, TrimCurve, TrimEdge};
+use cadmorph_seam::{closing_seams, shared_boundaries, shared_curves, SharedBoundary, TrimCurve, TrimEdge};
 
 /// The diagonal of the box around all control points of `faces`.
 pub(crate) fn size_of(faces: &[Face]) -> f64 {
@@ -51,6 +51,18 @@ pub(crate) fn shared_edges(faces: &[Face], bounds: &[BoundCurve]) -> (Vec<Shared
             e
         })
         .collect();
+    // A face closed in u or v keeps its own closing seam (a blade's section loop, a
+    // full cylinder) whether or not the file bounds it: it is an edge of the face
+    // with itself, which the topology pass below does not pair.
+    let bounded_faces: Vec<usize> = (0..faces.len()).filter(|&k| bounded[k]).collect();
+    let closed: Vec<&NurbsSurface> = bounded_faces.iter().map(|&k| &faces[k].surface).collect();
+    for mut e in closing_seams(&closed, tol, 64, 0.9) {
+        e.a.patch = bounded_faces[e.a.patch];
+        e.b.patch = bounded_faces[e.b.patch];
+        if !iso.contains(&e) {
+            iso.push(e);
+        }
+    }
     let mut trims = Vec::new();
     let mut pairs: HashMap<(usize, usize), Vec<SharedBoundary>> = HashMap::new();
     for t in topology_edges(bounds, tol) {

@@ -14,6 +14,8 @@ use cadmorph_testkit::sample;
 /// composition is exact and the knot removal tolerance is 1e-13 × size, so only rounding
 /// at degree ≤ 25 remains.
 const EXACT: f64 = 1e-12;
+/// How far a traced trimming curve may lie from its face, relative to the model size.
+const TRACE: f64 = 1e-7;
 
 fn doc(name: &str, bytes: &[u8]) -> Box<dyn CadDocument> {
     if name.ends_with(".stp") {
@@ -62,9 +64,18 @@ fn max_deviation(written: &Model, input: &[NurbsSurface], ffd: &Ffd) -> f64 {
 fn assert_gaps_kept(name: &str, before: &SeamReport, after: &SeamReport, size: f64, stretch: f64) {
     assert_eq!(before.edges.len(), after.edges.len(), "{name}: edges");
     for (b, a) in before.edges.iter().zip(&after.edges) {
-        let allowed = stretch * b.gap_closest.max + EXACT * size;
+        if b.a.patch == b.b.patch {
+            // A closed face's own closing seam: see `closing_seams_under_exact_ffd`.
+            continue;
+        }
+        // IGES trimming curves are traced on the exact face (not composed: OCCT's IGES
+        // reader cannot re-fit a composed conic arc to its parameter curve) within the
+        // trace tolerance of 1e-7 x size, and the edges between trimmed faces are
+        // measured along those curves.
+        let traced = if name.ends_with(".igs") && !b.edge.is_empty() { TRACE * size } else { 0.0 };
+        let allowed = stretch * b.gap_closest.max + EXACT * size + traced;
         assert!(a.gap_closest.max <= allowed, "{name}: gap {:e} (input {:e})", a.gap_closest.max, b.gap_closest.max);
-        if b.gap_closest.max == 0.0 {
+        if b.gap_closest.max == 0.0 && traced == 0.0 {
             assert!(a.gap_closest.max <= EXACT * size, "{name}: a closed seam opened to {:e}", a.gap_closest.max);
         }
     }
@@ -255,7 +266,7 @@ fn occt_reads_exact_outputs_as_valid_and_as_the_pointwise_ffd() {
 
 /// Without --exact, morphed planes and cylinders are elevated to at least cubic before
 /// their control points move (a bilinear net stays a ruled patch), and the edges are
-/// still the solid's 29, in the morph's report and in a fresh check of the written file.
+/// still the solid's 29 and the cylinder's closing seam, in the morph's report and in a fresh check of the written file.
 #[test]
 fn morphed_planes_and_cylinders_are_at_least_cubic_and_seams_still_match() {
     let f = ffd("prm/solid_trilinear.toml");
@@ -268,8 +279,9 @@ fn morphed_planes_and_cylinders_are_at_least_cubic_and_seams_still_match() {
                 assert!(p.surface.u_degree() >= 3 && p.surface.v_degree() >= 3, "{name} {}", p.entity);
             }
         }
-        assert_eq!(o.seams_after.edges.len(), 29, "{name}");
+        // 29 edges between two faces and the cylinder's closing seam.
+        assert_eq!(o.seams_after.edges.len(), 30, "{name}");
         let fresh = Model::new(m.document().read_back().unwrap()).unwrap().seams(50);
-        assert_eq!(fresh.edges.len(), 29, "{name}: {}", fresh.table());
+        assert_eq!(fresh.edges.len(), 30, "{name}: {}", fresh.table());
     }
 }

@@ -88,14 +88,7 @@ fn morphed_and_repaired_solids_stay_valid_with_their_topology_and_creases() {
                     out.seams_after.max_gap_closest,
                     out.seams_after.sharp_edges
                 );
-                if name == "mixed_solid_brep.igs" && which == "3x3x3" {
-                    // Known: OCCT rebuilds 34 edges and 37 vertices from the written 504/502
-                    // lists (20 vertices) and finds face 11 invalid. A tripwire: when this
-                    // is fixed, make the test strict.
-                    assert_eq!(r["valid"], false, "{what} is valid now: assert it");
-                } else {
-                    assert_eq!(r["valid"], true, "{what}");
-                }
+                assert_eq!(r["valid"], true, "{what}");
                 for k in ["solids", "shells", "faces"] {
                     assert_eq!(topo(&r, k), topo(&input, k), "{what}: {k}");
                 }

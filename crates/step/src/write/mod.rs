@@ -137,14 +137,25 @@ impl Document {
     ///
     /// As [`replace_instance_text`](Self::replace_instance_text).
     ///
+    /// An added instance is written only if something references it then: one that
+    /// nothing does is dead geometry of an edit and is dropped on writing, like the
+    /// instances edits leave unused (`write/orphans.rs`).
+    ///
     /// # Examples
     ///
     /// ```
     /// use cadmorph_step::{Document, EntityId};
-    /// let mut doc = Document::parse(b"ISO-10303-21;HEADER;ENDSEC;DATA;\n#7=DIRECTION('',(1.,0.,0.));\nENDSEC;END-ISO-10303-21;").unwrap();
+    /// let mut doc = Document::parse(
+    ///     b"ISO-10303-21;HEADER;ENDSEC;DATA;\n#6=CARTESIAN_POINT('',(0.,0.,0.));\n#7=DIRECTION('',(1.,0.,0.));\n#8=VECTOR('',#7,1.);\n#9=LINE('',#6,#8);\nENDSEC;END-ISO-10303-21;",
+    /// )
+    /// .unwrap();
     /// let id = doc.add_instance("VECTOR('',#7,2.)").unwrap();
-    /// assert_eq!(id, EntityId(8));
-    /// assert_eq!(doc.write(), b"ISO-10303-21;HEADER;ENDSEC;DATA;\n#7=DIRECTION('',(1.,0.,0.));\n#8 = VECTOR('',#7,2.);\nENDSEC;END-ISO-10303-21;");
+    /// assert_eq!(id, EntityId(10));
+    /// // The line takes the new vector; the old one, now unused, is not written.
+    /// doc.replace_instance_text(EntityId(9), "#9=LINE('',#6,#10);".into()).unwrap();
+    /// let text = String::from_utf8(doc.write()).unwrap();
+    /// assert!(text.contains("#10 = VECTOR('',#7,2.);") && text.contains("#9=LINE('',#6,#10);"));
+    /// assert!(!text.contains("#8="));
     /// ```
     pub fn add_instance(&mut self, body: &str) -> Result<EntityId> {
         let id = self.max_id.checked_add(1).ok_or(Error::Limit {
