@@ -44,6 +44,7 @@ def test_bad_points_name_the_argument(kind):
     for bad in (np.nan, np.inf, -np.inf):
         p = POINTS.copy()
         p[4321, 2] = bad
+        p[6500, 1] = bad  # a later one, in another chunk: the first is named
         with pytest.raises(ValueError, match=r"points\[4321, 2\] is (NaN|inf|-inf)"):
             d(p)
         with pytest.raises(ValueError, match=r"points\[4321, 2\]"):

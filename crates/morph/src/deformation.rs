@@ -10,7 +10,11 @@ use rayon::prelude::*;
 pub const PARALLEL_MIN_POINTS: usize = 4096;
 
 /// Number of points one rayon task handles in the parallel paths.
-pub(crate) const PARALLEL_CHUNK: usize = 2048;
+pub const PARALLEL_CHUNK: usize = 2048;
+
+/// The hook of [`Deformation::deform_chunks`]: `(index of the chunk's first point, chunk) →
+/// deform it?`, called from rayon's threads.
+pub type ChunkHook<'a> = dyn Fn(usize, &mut [Point3<f64>]) -> bool + Sync + 'a;
 
 /// A map φ: ℝ³ → ℝ³ applied to points (control points, mesh nodes).
 ///
@@ -53,6 +57,25 @@ pub trait Deformation: Sync {
         }
     }
 
+    /// φ applied in place chunk by chunk, with `before(start, chunk)` called on each chunk
+    /// (`start` is the index of its first point) just before the chunk is deformed: a chunk
+    /// for which it returns `false` is not deformed. The chunks are those of
+    /// [`Deformation::deform`] (one chunk below [`PARALLEL_MIN_POINTS`] points, else
+    /// [`PARALLEL_CHUNK`]-point chunks in parallel), so a caller can fuse its own pass over
+    /// the points (a copy in, a check for non-finite values) with the morph while each chunk
+    /// is in cache. Implementations with per-call set-up (the FFD's power form) do it once.
+    fn deform_chunks(&self, points: &mut [Point3<f64>], before: &ChunkHook<'_>) {
+        if points.len() >= PARALLEL_MIN_POINTS {
+            points.par_chunks_mut(PARALLEL_CHUNK).enumerate().for_each(|(i, chunk)| {
+                if before(i * PARALLEL_CHUNK, chunk) {
+                    self.deform(chunk);
+                }
+            });
+        } else if before(0, points) {
+            self.deform(points);
+        }
+    }
+
     /// The deformed copy of `points` (the copy twin of [`Deformation::deform`]).
     fn deformed(&self, points: &[Point3<f64>]) -> Vec<Point3<f64>> {
         let mut out = points.to_vec();
@@ -83,6 +106,9 @@ impl<D: Deformation + ?Sized> Deformation for &D {
     fn deform(&self, points: &mut [Point3<f64>]) {
         (**self).deform(points)
     }
+    fn deform_chunks(&self, points: &mut [Point3<f64>], before: &ChunkHook<'_>) {
+        (**self).deform_chunks(points, before)
+    }
     fn jacobian(&self, p: &Point3<f64>) -> Option<Matrix3<f64>> {
         (**self).jacobian(p)
     }
@@ -94,6 +120,9 @@ impl<D: Deformation + ?Sized + Send> Deformation for Box<D> {
     }
     fn deform(&self, points: &mut [Point3<f64>]) {
         (**self).deform(points)
+    }
+    fn deform_chunks(&self, points: &mut [Point3<f64>], before: &ChunkHook<'_>) {
+        (**self).deform_chunks(points, before)
     }
     fn jacobian(&self, p: &Point3<f64>) -> Option<Matrix3<f64>> {
         (**self).jacobian(p)

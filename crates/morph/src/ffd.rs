@@ -4,7 +4,7 @@
 use nalgebra::{Matrix3, Point3, Vector3};
 use rayon::prelude::*;
 
-use crate::deformation::{check_params, ParamWeights, PARALLEL_CHUNK, PARALLEL_MIN_POINTS};
+use crate::deformation::{check_params, ChunkHook, ParamWeights, PARALLEL_CHUNK, PARALLEL_MIN_POINTS};
 use crate::{affine::rotation_matrix, Deformation, Error, LinearInParameters, Result};
 
 /// Default tolerance, in reference (unit-box) coordinates, within which a point outside the
@@ -1035,6 +1035,19 @@ impl Deformation for Ffd {
             points.par_chunks_mut(PARALLEL_CHUNK).for_each(|c| self.deform_serial(c, power.as_ref()));
         } else {
             self.deform_serial(points, PowerForm::new(&self.mu).as_ref());
+        }
+    }
+
+    fn deform_chunks(&self, points: &mut [Point3<f64>], before: &ChunkHook<'_>) {
+        let power = PowerForm::new(&self.mu);
+        if points.len() >= PARALLEL_MIN_POINTS {
+            points.par_chunks_mut(PARALLEL_CHUNK).enumerate().for_each(|(i, c)| {
+                if before(i * PARALLEL_CHUNK, c) {
+                    self.deform_serial(c, power.as_ref())
+                }
+            });
+        } else if before(0, points) {
+            self.deform_serial(points, power.as_ref());
         }
     }
 

@@ -68,7 +68,9 @@ pub mod prm;
 pub mod rbf;
 
 pub use affine::Affine;
-pub use deformation::{Deformation, LinearInParameters, ParamWeights, Then, PARALLEL_MIN_POINTS};
+pub use deformation::{
+    ChunkHook, Deformation, LinearInParameters, ParamWeights, Then, PARALLEL_CHUNK, PARALLEL_MIN_POINTS,
+};
 pub use error::{Error, Result};
 pub use ffd::{BoundFfd, Displacements, Ffd};
 pub use from_fn::{from_fn, FromFn};

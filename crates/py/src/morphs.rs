@@ -8,7 +8,10 @@ use std::sync::{Arc, Mutex};
 use cadmorph::morph::ffd::FACE_TOL;
 use cadmorph::morph::math::{Matrix3, Point3, Vector3};
 use cadmorph::morph::rbf::Kernel;
-use cadmorph::morph::{Affine, Deformation, Ffd, Idw, IdwParameters, IdwVariant, Parameters, Rbf, RbfParameters};
+use cadmorph::morph::{
+    Affine, ChunkHook, Deformation, Ffd, Idw, IdwParameters, IdwVariant, Parameters, Rbf, RbfParameters,
+    PARALLEL_CHUNK, PARALLEL_MIN_POINTS,
+};
 use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -17,14 +20,10 @@ use pyo3::types::PyTuple;
 use rayon::prelude::*;
 
 use crate::arrays::{
-    as_points, as_points_mut, first_non_finite, non_finite_err, points_to_array, points_vec, points_view, three,
-    to_array,
+    as_points, as_points_mut, first_non_finite, first_non_finite_index, non_finite_err, points_to_array, points_vec,
+    points_view, three, to_array,
 };
 use crate::errors::morph_err;
-
-/// Points handled by one task of the parallel copy-check-deform loop: the morph's own
-/// parallel chunk, so that the chunk is still in cache when the morph reads it.
-const CHUNK: usize = 2048;
 
 /// A Python callable `f(points) -> points` on `(n, 3)` arrays, as a deformation. The first
 /// exception it raises is kept (the [`Deformation`] trait cannot fail) and re-raised by
@@ -127,6 +126,33 @@ impl Deformation for Morph {
             Morph::Chain(v) => v.iter().for_each(|d| d.deform(points)),
             // One call with the whole array, on the calling thread.
             Morph::Function(f) => f.call(points),
+        }
+    }
+
+    fn deform_chunks(&self, points: &mut [Point3<f64>], before: &ChunkHook<'_>) {
+        match self {
+            Morph::Ffd(d) => d.deform_chunks(points, before),
+            Morph::Rbf(d) => d.deform_chunks(points, before),
+            Morph::Idw(d) => d.deform_chunks(points, before),
+            Morph::Affine(d) => d.deform_chunks(points, before),
+            // Each link's own batched deform, chunk by chunk.
+            Morph::Chain(_) => {
+                if points.len() >= PARALLEL_MIN_POINTS {
+                    points.par_chunks_mut(PARALLEL_CHUNK).enumerate().for_each(|(i, c)| {
+                        if before(i * PARALLEL_CHUNK, c) {
+                            self.deform(c);
+                        }
+                    });
+                } else if before(0, points) {
+                    self.deform(points);
+                }
+            }
+            // On the calling thread, in one piece.
+            Morph::Function(f) => {
+                if before(0, points) {
+                    f.call(points);
+                }
+            }
         }
     }
 
@@ -246,10 +272,11 @@ pub(crate) fn apply<'py>(
 }
 
 /// `morph` applied to `flat` in place, each chunk checked for non-finite values just before
-/// it is deformed (in parallel; on this thread when the morph calls Python, after checking
-/// everything). `Err` is the first non-finite value; chunks holding one are not deformed.
+/// it is deformed (in parallel, through [`Deformation::deform_chunks`]; on this thread when
+/// the morph calls Python, after checking everything). `Err` is the first non-finite value;
+/// chunks holding one are not deformed.
 fn check_deform_in_place(morph: &Morph, flat: &mut [f64], sequential: bool) -> Result<(), (usize, usize)> {
-    if sequential || flat.len() < 2 * CHUNK * 3 {
+    if sequential {
         if let Some(at) = first_non_finite(flat) {
             return Err(at);
         }
@@ -257,13 +284,16 @@ fn check_deform_in_place(morph: &Morph, flat: &mut [f64], sequential: bool) -> R
         return Ok(());
     }
     let first = AtomicUsize::new(usize::MAX);
-    flat.par_chunks_mut(CHUNK * 3).enumerate().for_each(|(c, d)| {
-        if let Some(i) = d.iter().position(|v| !v.is_finite()) {
-            first.fetch_min(c * CHUNK * 3 + i, Ordering::Relaxed);
-            return;
-        }
-        morph.deform(as_points_mut(d));
-    });
+    morph.deform_chunks(
+        as_points_mut(flat),
+        &|start, chunk| match first_non_finite_index(bytemuck::cast_slice(chunk)) {
+            Some(i) => {
+                first.fetch_min(start * 3 + i, Ordering::Relaxed);
+                false
+            }
+            None => true,
+        },
+    );
     match first.into_inner() {
         usize::MAX => Ok(()),
         i => Err((i / 3, i % 3)),
@@ -271,11 +301,12 @@ fn check_deform_in_place(morph: &Morph, flat: &mut [f64], sequential: bool) -> R
 }
 
 /// A new buffer holding `morph(src)`: copied, checked and deformed chunk by chunk in
-/// parallel (each chunk is still in cache for the morph), or all at once on this thread
-/// when the morph calls Python. `Err` is the first non-finite input value.
+/// parallel (each chunk is still in cache for the morph, see
+/// [`Deformation::deform_chunks`]), or all at once on this thread when the morph calls
+/// Python. `Err` is the first non-finite input value.
 fn copy_check_deform(morph: &Morph, src: &[f64], sequential: bool) -> Result<Vec<f64>, (usize, usize)> {
     let mut dst = vec![0.0; src.len()];
-    if sequential || src.len() < 2 * CHUNK * 3 {
+    if sequential {
         if let Some(at) = first_non_finite(src) {
             return Err(at);
         }
@@ -284,13 +315,18 @@ fn copy_check_deform(morph: &Morph, src: &[f64], sequential: bool) -> Result<Vec
         return Ok(dst);
     }
     let first = AtomicUsize::new(usize::MAX);
-    dst.par_chunks_mut(CHUNK * 3).zip(src.par_chunks(CHUNK * 3)).enumerate().for_each(|(c, (d, s))| {
-        if let Some(i) = s.iter().position(|v| !v.is_finite()) {
-            first.fetch_min(c * CHUNK * 3 + i, Ordering::Relaxed);
-            return;
+    morph.deform_chunks(as_points_mut(&mut dst), &|start, chunk| {
+        let s = &src[start * 3..start * 3 + chunk.len() * 3];
+        match first_non_finite_index(s) {
+            Some(i) => {
+                first.fetch_min(start * 3 + i, Ordering::Relaxed);
+                false
+            }
+            None => {
+                bytemuck::cast_slice_mut::<Point3<f64>, f64>(chunk).copy_from_slice(s);
+                true
+            }
         }
-        d.copy_from_slice(s);
-        morph.deform(as_points_mut(d));
     });
     match first.into_inner() {
         usize::MAX => Ok(dst),
