@@ -16,6 +16,22 @@ pub const PARALLEL_CHUNK: usize = 2048;
 /// deform it?`, called from rayon's threads.
 pub type ChunkHook<'a> = dyn Fn(usize, &mut [Point3<f64>]) -> bool + Sync + 'a;
 
+/// The chunking of [`Deformation::deform_chunks`]: `before(start, chunk)` then, if it
+/// returns `true`, `deform(chunk)`, on one chunk below [`PARALLEL_MIN_POINTS`] points, else
+/// on [`PARALLEL_CHUNK`]-point chunks in parallel. For implementations of `deform_chunks`
+/// that deform each chunk their own way (with set-up done once per call).
+pub fn for_each_chunk(points: &mut [Point3<f64>], before: &ChunkHook<'_>, deform: impl Fn(&mut [Point3<f64>]) + Sync) {
+    if points.len() >= PARALLEL_MIN_POINTS {
+        points.par_chunks_mut(PARALLEL_CHUNK).enumerate().for_each(|(i, chunk)| {
+            if before(i * PARALLEL_CHUNK, chunk) {
+                deform(chunk);
+            }
+        });
+    } else if before(0, points) {
+        deform(points);
+    }
+}
+
 /// A map φ: ℝ³ → ℝ³ applied to points (control points, mesh nodes).
 ///
 /// Building a deformation may fail (a singular RBF system, a malformed parameter file);
@@ -65,15 +81,7 @@ pub trait Deformation: Sync {
     /// the points (a copy in, a check for non-finite values) with the morph while each chunk
     /// is in cache. Implementations with per-call set-up (the FFD's power form) do it once.
     fn deform_chunks(&self, points: &mut [Point3<f64>], before: &ChunkHook<'_>) {
-        if points.len() >= PARALLEL_MIN_POINTS {
-            points.par_chunks_mut(PARALLEL_CHUNK).enumerate().for_each(|(i, chunk)| {
-                if before(i * PARALLEL_CHUNK, chunk) {
-                    self.deform(chunk);
-                }
-            });
-        } else if before(0, points) {
-            self.deform(points);
-        }
+        for_each_chunk(points, before, |chunk| self.deform(chunk));
     }
 
     /// The deformed copy of `points` (the copy twin of [`Deformation::deform`]).

@@ -4,7 +4,7 @@
 use nalgebra::{Matrix3, Point3, Vector3};
 use rayon::prelude::*;
 
-use crate::deformation::{check_params, ChunkHook, ParamWeights, PARALLEL_CHUNK, PARALLEL_MIN_POINTS};
+use crate::deformation::{check_params, for_each_chunk, ChunkHook, ParamWeights, PARALLEL_CHUNK, PARALLEL_MIN_POINTS};
 use crate::{affine::rotation_matrix, Deformation, Error, LinearInParameters, Result};
 
 /// Default tolerance, in reference (unit-box) coordinates, within which a point outside the
@@ -1040,15 +1040,7 @@ impl Deformation for Ffd {
 
     fn deform_chunks(&self, points: &mut [Point3<f64>], before: &ChunkHook<'_>) {
         let power = PowerForm::new(&self.mu);
-        if points.len() >= PARALLEL_MIN_POINTS {
-            points.par_chunks_mut(PARALLEL_CHUNK).enumerate().for_each(|(i, c)| {
-                if before(i * PARALLEL_CHUNK, c) {
-                    self.deform_serial(c, power.as_ref())
-                }
-            });
-        } else if before(0, points) {
-            self.deform_serial(points, power.as_ref());
-        }
+        for_each_chunk(points, before, |c| self.deform_serial(c, power.as_ref()));
     }
 
     /// `I + R diag(ℓ) (Σ μ ⊗ ∇ᵤb) diag(1/ℓ) Rᵀ` inside the closed box (one-sided on its

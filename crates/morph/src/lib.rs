@@ -69,7 +69,7 @@ pub mod rbf;
 
 pub use affine::Affine;
 pub use deformation::{
-    ChunkHook, Deformation, LinearInParameters, ParamWeights, Then, PARALLEL_CHUNK, PARALLEL_MIN_POINTS,
+    for_each_chunk, ChunkHook, Deformation, LinearInParameters, ParamWeights, Then, PARALLEL_CHUNK, PARALLEL_MIN_POINTS,
 };
 pub use error::{Error, Result};
 pub use ffd::{BoundFfd, Displacements, Ffd};

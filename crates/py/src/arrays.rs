@@ -66,7 +66,7 @@ pub(crate) fn first_non_finite(flat: &[f64]) -> Option<(usize, usize)> {
 /// A branch-free pass first, then the position only when it failed: `x · 0` is `±0` for a
 /// finite `x` and NaN otherwise, summed over eight independent lanes, which the compiler
 /// turns into SIMD adds. The early-exit `position` alone does not vectorise; on a 3x3x3
-/// FFD of 10⁶ points it took half as long again as the morph itself (`perf`).
+/// FFD of 10⁶ points it took 31 % of the samples against the kernel's 39 % (`perf`).
 pub(crate) fn first_non_finite_index(flat: &[f64]) -> Option<usize> {
     let mut acc = [0.0f64; 8];
     let mut blocks = flat.chunks_exact(8);

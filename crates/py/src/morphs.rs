@@ -9,15 +9,13 @@ use cadmorph::morph::ffd::FACE_TOL;
 use cadmorph::morph::math::{Matrix3, Point3, Vector3};
 use cadmorph::morph::rbf::Kernel;
 use cadmorph::morph::{
-    Affine, ChunkHook, Deformation, Ffd, Idw, IdwParameters, IdwVariant, Parameters, Rbf, RbfParameters,
-    PARALLEL_CHUNK, PARALLEL_MIN_POINTS,
+    for_each_chunk, Affine, ChunkHook, Deformation, Ffd, Idw, IdwParameters, IdwVariant, Parameters, Rbf, RbfParameters,
 };
 use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
-use rayon::prelude::*;
 
 use crate::arrays::{
     as_points, as_points_mut, first_non_finite, first_non_finite_index, non_finite_err, points_to_array, points_vec,
@@ -136,17 +134,7 @@ impl Deformation for Morph {
             Morph::Idw(d) => d.deform_chunks(points, before),
             Morph::Affine(d) => d.deform_chunks(points, before),
             // Each link's own batched deform, chunk by chunk.
-            Morph::Chain(_) => {
-                if points.len() >= PARALLEL_MIN_POINTS {
-                    points.par_chunks_mut(PARALLEL_CHUNK).enumerate().for_each(|(i, c)| {
-                        if before(i * PARALLEL_CHUNK, c) {
-                            self.deform(c);
-                        }
-                    });
-                } else if before(0, points) {
-                    self.deform(points);
-                }
-            }
+            Morph::Chain(_) => for_each_chunk(points, before, |c| self.deform(c)),
             // On the calling thread, in one piece.
             Morph::Function(f) => {
                 if before(0, points) {
