@@ -2,17 +2,19 @@
 //! remarks): the exact enclosed volume of a closed NURBS B-rep and its derivatives
 //! ([`volume`]), FFD that keeps the volume or the barycentre of a CAD model
 //! ([`keep`]), a Lackenby-style shift of the longitudinal centre of buoyancy
-//! ([`lackenby`]).
+//! ([`lackenby`]), the planing-hull chine law ([`chine`]).
 //!
 //! The crate works on the model's faces ([`cadmorph_model::Model::patches`]) and bounding
 //! curves; the constrained solvers for point sets live in `cadmorph_morph::constrained`.
 
+pub mod chine;
 pub mod error;
 pub mod gauss;
 pub mod keep;
 pub mod lackenby;
 pub mod volume;
 
+pub use chine::{chine, ChineLaw, ChineReport, Law, Section, Side};
 pub use error::{Error, Result};
 pub use keep::{keep, Keep, KeepReport};
 pub use lackenby::{lcb_shift, LcbReport, SectionShift};

@@ -283,7 +283,7 @@ impl<D: CadDocument> Model<D> {
         };
         progress.start("writing", 0);
         let tol = 1e-7 * self.size();
-        let (faces_rewritten, unmoved) = self.write_faces(&refined, patches, d, exact.as_mut())?;
+        let (faces_rewritten, unmoved, in_plane) = self.write_faces(&refined, patches, d, exact.as_mut())?;
         // Faces the repair changed besides the morph: their curves follow them even where
         // the morph itself moves nothing.
         let mut repaired = vec![false; self.faces.len()];
@@ -291,7 +291,7 @@ impl<D: CadDocument> Model<D> {
             repaired[e.a.patch] = true;
             repaired[e.b.patch] = true;
         }
-        let curves_rewritten = self.write_curves(&unmoved, d, tol, &repaired, exact.as_mut())?;
+        let curves_rewritten = self.write_curves(&unmoved, d, tol, &repaired, &in_plane, exact.as_mut())?;
         // The iso-boundary pairs stay the same sides while the domains do; the other
         // edges follow the curves as written.
         let now: Vec<_> = self.faces.iter().map(|p| p.surface.domain()).collect();
@@ -316,17 +316,21 @@ impl<D: CadDocument> Model<D> {
     }
 
     /// Writes every face whose surface the morph changed; returns how many were written,
-    /// and each face's surface before the morph in the parameters of the surface it has
-    /// now (what its curves are traced from).
+    /// each face's surface before the morph in the parameters of the surface it has now
+    /// (what its curves are traced from), and which planes the morph keeps in their
+    /// plane (see [`in_plane`]: their curves move with the morph itself).
     fn write_faces(
         &mut self,
         refined: &[NurbsSurface],
         moved: Vec<NurbsSurface>,
         d: &dyn Deformation,
         mut exact: Option<&mut (&ExactFfd, &[bool], &mut ExactReport)>,
-    ) -> Result<(usize, Vec<NurbsSurface>)> {
+    ) -> Result<(usize, Vec<NurbsSurface>, Vec<bool>)> {
         let mut written = 0;
         let mut unmoved = Vec::with_capacity(moved.len());
+        let mut in_plane_faces = vec![false; moved.len()];
+        let size = self.size();
+        let bounds = &self.bounds;
         for (k, ((face, r), s)) in self.faces.iter_mut().zip(refined).zip(moved).enumerate() {
             unmoved.push(face.surface.clone());
             if face.kind.is_analytic() {
@@ -370,7 +374,13 @@ impl<D: CadDocument> Model<D> {
                         // Curves are traced from this form (its parameters), not from the patch.
                         *unmoved.last_mut().expect("pushed above") = target.clone();
                         d.deform(target.control_points_mut());
-                        target
+                        match in_plane(&b, &target, bounds.iter().filter(|c| c.face == k), d, size) {
+                            Some(p) => {
+                                in_plane_faces[k] = true;
+                                p
+                            }
+                            None => target,
+                        }
                     }
                 };
                 face.kind = SurfaceKind::BSpline;
@@ -384,11 +394,12 @@ impl<D: CadDocument> Model<D> {
                 face.surface = s;
             }
         }
-        Ok((written, unmoved))
+        Ok((written, unmoved, in_plane_faces))
     }
 
     /// Traces every moved bound curve, and every curve of a face the seam repair changed
-    /// (`repaired`), once on its first morphed face (from `unmoved`, the face before the
+    /// (`repaired`), once on its first morphed face (a curve of a plane kept in its plane,
+    /// `in_plane`, moves its control points) (from `unmoved`, the face before the
     /// morph in the parameters it has now), then moves the free curves' control points;
     /// returns how many curve entities were written. A traced curve stays within `tol` of
     /// its face.
@@ -398,6 +409,7 @@ impl<D: CadDocument> Model<D> {
         d: &dyn Deformation,
         tol: f64,
         repaired: &[bool],
+        in_plane: &[bool],
         mut exact: Option<&mut (&ExactFfd, &[bool], &mut ExactReport)>,
     ) -> Result<usize> {
         let mut n = 0;
@@ -423,7 +435,16 @@ impl<D: CadDocument> Model<D> {
                 }
                 None => None,
             };
-            let Some(c) = composed.or_else(|| follow_face(&b.curve, &unmoved[face], &self.faces[face].surface, d, tol))
+            // A plane kept in its plane was re-bounded, not moved: its curves are the
+            // morph's image of them, which stays in the plane.
+            let own = in_plane[face].then(|| {
+                let mut c = b.curve.clone();
+                d.deform(c.control_points_mut());
+                c
+            });
+            let Some(c) = composed
+                .or(own)
+                .or_else(|| follow_face(&b.curve, &unmoved[face], &self.faces[face].surface, d, tol))
             else {
                 continue;
             };
@@ -445,4 +466,79 @@ impl<D: CadDocument> Model<D> {
         }
         Ok(n)
     }
+}
+
+/// A plane face that the morph maps into its own plane (a transverse plane under a law
+/// that keeps x, a symmetry plane under a symmetric morph): when every moved control point
+/// of its B-spline form `plane` (`moved`) and of its bounding curves stays in the plane
+/// (within `1e-12 ×` the model size), the face stays that plane, bounded by the moved
+/// curves. Moving the form's corners would give the same plane in other parameters whose
+/// extent may no longer cover the moved boundary; instead the form is re-bounded: a
+/// bilinear patch of the plane's own parameterisation over the box of the moved curves'
+/// control points (which hold the curves, Piegl & Tiller property P4.9) and of the old
+/// extent. `None` when the morph takes the face out of its plane (or the form is not an
+/// affine plane).
+fn in_plane<'a>(
+    plane: &NurbsSurface,
+    moved: &NurbsSurface,
+    curves: impl Iterator<Item = &'a cadmorph_brep::BoundCurve>,
+    d: &dyn Deformation,
+    size: f64,
+) -> Option<NurbsSurface> {
+    use cadmorph_nurbs::Surface as _;
+    let (ud, vd) = plane.domain();
+    let (u0, u1, v0, v1) = (*ud.start(), *ud.end(), *vd.start(), *vd.end());
+    let o = plane.eval(u0, v0);
+    let (eu, ev) = (plane.eval(u1, v0) - o, plane.eval(u0, v1) - o);
+    let n = eu.cross(&ev);
+    if n.norm() <= f64::EPSILON * eu.norm() * ev.norm() {
+        return None;
+    }
+    let n = n.normalize();
+    let tol = 1e-12 * size;
+    // The form must be the affine parallelogram o + s eu + t ev.
+    let grid = (0..=4).flat_map(|i| (0..=4).map(move |j| (i as f64 / 4.0, j as f64 / 4.0)));
+    for (s, t) in grid {
+        let p = plane.eval(u0 + (u1 - u0) * s, v0 + (v1 - v0) * t);
+        if (p - (o + eu * s + ev * t)).norm() > tol {
+            return None;
+        }
+    }
+    let off = |p: &cadmorph_morph::math::Point3<f64>| (p - o).dot(&n).abs();
+    if moved.control_points().iter().any(|p| off(p) > tol) {
+        return None;
+    }
+    // (s, t) of a point of the plane: least squares on eu, ev.
+    let (a, b, c) = (eu.dot(&eu), eu.dot(&ev), ev.dot(&ev));
+    let det = a * c - b * b;
+    let st = |p: &cadmorph_morph::math::Point3<f64>| {
+        let r = p - o;
+        let (x, y) = (r.dot(&eu), r.dot(&ev));
+        ((c * x - b * y) / det, (a * y - b * x) / det)
+    };
+    let (mut lo, mut hi) = ((0.0f64, 0.0f64), (1.0f64, 1.0f64));
+    for curve in curves {
+        let mut k = curve.curve.clone();
+        d.deform(k.control_points_mut());
+        for p in k.control_points() {
+            if off(p) > tol {
+                return None;
+            }
+            let (s, t) = st(p);
+            lo = (lo.0.min(s), lo.1.min(t));
+            hi = (hi.0.max(s), hi.1.max(t));
+        }
+    }
+    let at = |s: f64, t: f64| o + eu * s + ev * t;
+    // In the form's parameter ranges, so the face keeps its parameter domain; control
+    // points u-major like every surface here (P00, P01, P10, P11).
+    let knots = |a: f64, b: f64| cadmorph_nurbs::KnotVector::new_unchecked(vec![a, a, b, b]);
+    let out = NurbsSurface::new(
+        (1, 1),
+        (knots(u0, u1), knots(v0, v1)),
+        (2, 2),
+        vec![at(lo.0, lo.1), at(lo.0, hi.1), at(hi.0, lo.1), at(hi.0, hi.1)],
+        None,
+    );
+    Some(out)
 }
