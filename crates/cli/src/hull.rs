@@ -1,4 +1,5 @@
-//! `cadmorph hull volume|dims` (exact volume and centroid of a closed model, LCB shift) and the hook of
+//! `cadmorph hull volume|dims|chine` (exact volume and centroid of a closed model, LCB shift, the
+//! planing-hull chine law) and the hook of
 //! `cadmorph morph --ffd P --keep-volume --keep-barycentre`.
 
 use std::path::{Path, PathBuf};
@@ -6,7 +7,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context, Result};
 use cadmorph::model::{Model, MorphOptions, Staged};
 use cadmorph::morph::{Deformation, Ffd, LinearInParameters, Parameters};
-use cadmorph_hull::{enclosed, keep, lcb_shift, Keep, KeepReport};
+use cadmorph_hull::{chine, enclosed, keep, lcb_shift, ChineLaw, Keep, KeepReport, Law, Side};
 
 /// `cadmorph hull` subcommands.
 #[derive(clap::Subcommand)]
@@ -36,6 +37,49 @@ pub enum HullCommand {
         #[arg(long)]
         json: bool,
     },
+    /// The planing-hull chine law (paper section 2.2.1): each transverse section's bottom
+    /// rotates about the keel by θ(x), the chine strip follows the inner chine rigidly
+    /// (optionally turning by φ(x)), the straight wall follows between the moved outer
+    /// chine and its deck edge, the deck and everything above it stay. Keel and chine
+    /// lines are the model's sharp edges along x (y to starboard, z up); faces are refined
+    /// along the length until they are within --tol of the law.
+    Chine {
+        /// The input IGES or STEP file.
+        input: PathBuf,
+        /// θ along the length, degrees: control values of a B-spline law from the aft end
+        /// (first) to the fore end (last), comma-separated; one value is a constant.
+        /// Positive raises the chines (more deadrise).
+        #[arg(long, allow_hyphen_values = true, value_name = "DEG,DEG,...")]
+        theta: String,
+        /// φ along the length, degrees: the chine strip's own rotation about the moved
+        /// inner chine (double-chine hulls), same form as --theta.
+        #[arg(long, allow_hyphen_values = true, value_name = "DEG,DEG,...")]
+        chine_rotation: Option<String>,
+        /// Largest distance of a morphed face from the law, model units (default 1e-7 ×
+        /// the model size).
+        #[arg(long)]
+        tol: Option<f64>,
+        /// The output file (its extension names the format).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Print the report as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+/// A law from the command line: comma-separated degrees.
+fn law(arg: &str, what: &str) -> Result<Law> {
+    let values = arg
+        .split(',')
+        .enumerate()
+        .map(|(i, t)| {
+            t.trim().parse::<f64>().map(f64::to_radians).map_err(|e| {
+                anyhow::anyhow!("{what}: value {} ({:?}) is not a number of degrees: {e}", i + 1, t.trim())
+            })
+        })
+        .collect::<Result<Vec<f64>>>()?;
+    Law::new(&values).with_context(|| what.to_string())
 }
 
 /// Runs `cadmorph hull ...`.
@@ -50,7 +94,7 @@ pub fn run(cmd: HullCommand) -> Result<()> {
             if json {
                 let out = serde_json::json!({
                     "file": input.display().to_string(),
-                    "unit": m.unit(),
+                    "unit": crate::units::json(m.units().metres_per_unit, m.unit()),
                     "volume": e.total.volume,
                     "centroid": [c.x, c.y, c.z],
                     "orientation": e.orientation,
@@ -59,16 +103,92 @@ pub fn run(cmd: HullCommand) -> Result<()> {
                 println!("{}", serde_json::to_string_pretty(&out)?);
             } else {
                 println!(
-                    "{}: volume {:.12e} {}^3, centroid ({:.9}, {:.9}, {:.9}); {} faces ({} planar trimmed)",
+                    "{}: volume {:.12e} cubic {}, centroid ({:.9}, {:.9}, {:.9}); {} faces ({} planar trimmed)",
                     input.display(),
                     e.total.volume,
-                    m.unit(),
+                    crate::units::words(m.units().metres_per_unit, m.unit()),
                     c.x,
                     c.y,
                     c.z,
                     e.methods.len(),
                     e.methods.iter().filter(|k| **k == cadmorph_hull::FaceMethod::Planar).count()
                 );
+            }
+            Ok(())
+        }
+        HullCommand::Chine { input, theta, chine_rotation, tol, output, json } => {
+            let format = cadmorph::Format::from_extension(&output)
+                .ok_or_else(|| cadmorph::Error::UnknownExtension { path: output.clone() })?;
+            let theta = law(&theta, "--theta")?;
+            let phi = chine_rotation.as_deref().map(|a| law(a, "--chine-rotation")).transpose()?;
+            let mut m = cadmorph::open(&input)?;
+            crate::skipped::check(&m.info().skipped, false)?;
+            let tol = tol.unwrap_or(1e-7 * m.size());
+            let law = ChineLaw::new(&m, theta, phi)
+                .with_context(|| format!("the chine law on {}; nothing written", input.display()))?;
+            let (x0, x1) = law.x_range();
+            let stations: Vec<f64> = (0..=4).map(|k| x0 + (x1 - x0) * k as f64 / 4.0).collect();
+            let before: Vec<_> = stations.iter().map(|&x| law.section(x, Side::Starboard)).collect::<Result<_, _>>()?;
+            let report = chine(&mut m, &law, tol)
+                .with_context(|| format!("the chine law on {}; nothing written", input.display()))?;
+            let gap = report.morph.seams_after.max_gap_closest;
+            if gap > tol {
+                bail!(
+                    "the chine law opened a seam of {gap:.3e} {} (tolerance {tol:.3e}); nothing written",
+                    crate::units::words(m.units().metres_per_unit, m.unit())
+                );
+            }
+            let bytes = if format == m.format() { m.to_bytes() } else { cadmorph::convert(&m, format)?.to_bytes() };
+            Staged::new(&output, &bytes)?.commit()?;
+            if json {
+                let sections: Vec<_> = stations
+                    .iter()
+                    .zip(&before)
+                    .map(|(&x, s)| {
+                        serde_json::json!({
+                            "x": x,
+                            "theta_deg": law.theta(x).to_degrees(),
+                            "phi_deg": law.phi(x).to_degrees(),
+                            "keel": [s.keel.x, s.keel.y, s.keel.z],
+                            "inner_chine": [s.inner_chine.x, s.inner_chine.y, s.inner_chine.z],
+                            "deck_edge": [s.deck_edge.x, s.deck_edge.y, s.deck_edge.z],
+                        })
+                    })
+                    .collect();
+                let out = serde_json::json!({
+                    "input": input.display().to_string(),
+                    "output": output.display().to_string(),
+                    "unit": crate::units::json(m.units().metres_per_unit, m.unit()),
+                    "lines": report.lines,
+                    "rounds": report.rounds,
+                    "control_points_before": report.control_points_before,
+                    "control_points_after": report.control_points_after,
+                    "max_deviation": report.max_deviation,
+                    "tolerance": report.tolerance,
+                    "max_gap_after": gap,
+                    "sharp_edges_before": report.morph.seams_before.sharp_edges,
+                    "sharp_edges_after": report.morph.seams_after.sharp_edges,
+                    "sections": sections,
+                });
+                println!("{}", serde_json::to_string_pretty(&out)?);
+            } else {
+                println!(
+                    "{} -> {}: chine law over x {x0} .. {x1} {} ({} keel/chine/deck lines); refined along the length in {} rounds, {} -> {} control points, within {:.3e} {} of the law; seams after: max gap {gap:.3e}, {} sharp edges (before {})",
+                    input.display(),
+                    output.display(),
+                    crate::units::words(m.units().metres_per_unit, m.unit()),
+                    report.lines.len(),
+                    report.rounds,
+                    report.control_points_before,
+                    report.control_points_after,
+                    report.max_deviation,
+                    crate::units::words(m.units().metres_per_unit, m.unit()),
+                    report.morph.seams_after.sharp_edges,
+                    report.morph.seams_before.sharp_edges
+                );
+                for &x in &stations {
+                    println!("  x {x:>10.4}: θ {:+.4}°, φ {:+.4}°", law.theta(x).to_degrees(), law.phi(x).to_degrees());
+                }
             }
             Ok(())
         }
@@ -91,7 +211,7 @@ pub fn run(cmd: HullCommand) -> Result<()> {
                     output.display(),
                     report.before.centroid().x,
                     report.after.centroid().x,
-                    m.unit(),
+                    crate::units::words(m.units().metres_per_unit, m.unit()),
                     dx,
                     report.reached,
                     (report.after.volume - report.before.volume) / report.before.volume,
@@ -126,7 +246,7 @@ pub fn keep_hook(m: &Model, path: &Path, volume: bool, barycentre: bool) -> Resu
     let what = Keep { volume, barycentre, volume_factor: 1.0 };
     let (kept, report) = keep(m.patches(), m.bound_curves(), m.size(), &ffd, what, Some(&free))
         .context("keeping the enclosed volume/barycentre; nothing written")?;
-    print_report(&report, m.unit());
+    print_report(&report, &crate::units::words(m.units().metres_per_unit, m.unit()));
     Ok(Box::new(kept))
 }
 
@@ -142,7 +262,7 @@ fn print_report(r: &KeepReport, unit: &str) {
     let rel = |v: f64| (v - r.before.volume) / r.before.volume;
     let (c0, c1) = (r.before.centroid(), r.after.centroid());
     eprintln!(
-        "keep: volume {:.12e} {unit}^3 before, {:+.3e} relative with the file's displacements, {:+.3e} after the correction \
+        "keep: volume {:.12e} cubic {unit} before, {:+.3e} relative with the file's displacements, {:+.3e} after the correction \
          (|Δμ| {:.3e}, {} Newton steps); centroid moved by {:.3e} {unit}",
         r.before.volume,
         rel(r.unconstrained.volume),

@@ -89,3 +89,39 @@ fn dims_shifts_the_lcb() {
         cadmorph(&["hull", "dims", "samples/planing_hull.stp", "--lcb-shift", "3", "-o", too_far.to_str().unwrap()]);
     assert!(!o.status.success() && !too_far.exists());
 }
+
+#[test]
+fn hull_chine_writes_the_law_and_refuses_an_open_stem() {
+    let out = tmp("chine.stp");
+    let o = cadmorph(&[
+        "hull",
+        "chine",
+        "samples/planing_hull.stp",
+        "--theta",
+        "2,4,4.5,3,0",
+        "-o",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(j["lines"].as_array().unwrap().len(), 7);
+    assert!(j["max_deviation"].as_f64().unwrap() <= 1e-7 * 10.69);
+    assert!(j["max_gap_after"].as_f64().unwrap() <= 1e-9);
+    assert_eq!(j["sharp_edges_before"], j["sharp_edges_after"]);
+    assert!((j["sections"][0]["theta_deg"].as_f64().unwrap() - 2.0).abs() < 1e-12);
+    // The written file holds the same closed hull: the chine law changes its volume, the
+    // volume is still measured (the file is closed and valid for cadmorph).
+    let (v, _) = volume(&out);
+    assert!(v > 0.0 && (v - OCCT_VOLUME).abs() > 1e-6, "{v}");
+    // A bottom rotation where the sections close at the stem: refused, nothing written.
+    let bad = tmp("chine_bad.stp");
+    let o = cadmorph(&["hull", "chine", "samples/planing_hull.stp", "--theta", "3", "-o", bad.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("closes") && e.contains("nothing written"), "{e}");
+    assert!(!bad.exists());
+    let o = cadmorph(&["hull", "chine", "samples/planing_hull.stp", "--theta", "1,x", "-o", bad.to_str().unwrap()]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("value 2"));
+    assert!(!bad.exists());
+}

@@ -73,7 +73,11 @@ impl Law {
             return Err(Error::Invalid("a law needs at least one control value".into()));
         }
         if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-            return Err(Error::Invalid(format!("control value {} of the law is {}, not a finite number", i + 1, values[i])));
+            return Err(Error::Invalid(format!(
+                "control value {} of the law is {}, not a finite number",
+                i + 1,
+                values[i]
+            )));
         }
         if values.len() == 1 {
             return Ok(Law { values: values.to_vec(), curve: None });
@@ -296,11 +300,8 @@ fn lines_of<D: CadDocument>(model: &Model<D>) -> Result<(Vec<LinePiece>, (f64, f
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| (lo.min(x), hi.max(x)));
     let length = x_hi - x_lo;
     let eps = 1e-6 * size;
-    let mut curves: Vec<(NurbsCurve, (f64, f64))> = model
-        .edges()
-        .iter()
-        .map(|e| (faces[e.a.patch].surface.boundary(e.a.side), e.a_range))
-        .collect();
+    let mut curves: Vec<(NurbsCurve, (f64, f64))> =
+        model.edges().iter().map(|e| (faces[e.a.patch].surface.boundary(e.a.side), e.a_range)).collect();
     curves.extend(model.trim_edges().iter().map(|e| (e.curve.clone(), e.range)));
     let mut lines = Vec::new();
     for (k, ((curve, t), report)) in curves.into_iter().zip(&seams.edges).enumerate() {
@@ -308,8 +309,7 @@ fn lines_of<D: CadDocument>(model: &Model<D>) -> Result<(Vec<LinePiece>, (f64, f
             continue;
         }
         let n = 32;
-        let xs: Vec<Point3<f64>> =
-            (0..=n).map(|i| curve.eval(t.0 + (t.1 - t.0) * i as f64 / n as f64)).collect();
+        let xs: Vec<Point3<f64>> = (0..=n).map(|i| curve.eval(t.0 + (t.1 - t.0) * i as f64 / n as f64)).collect();
         let rising = xs[n].x > xs[0].x;
         let monotone = xs.windows(2).all(|w| if rising { w[1].x > w[0].x } else { w[1].x < w[0].x });
         let span = (xs[n].x - xs[0].x).abs();
@@ -330,7 +330,8 @@ fn lines_of<D: CadDocument>(model: &Model<D>) -> Result<(Vec<LinePiece>, (f64, f
     let hi = lines.iter().map(|l| l.x.1).fold(f64::NEG_INFINITY, f64::max);
     if lines.is_empty() {
         return Err(Error::Invalid(
-            "the model has no sharp edges along its length (x): no keel or chine lines to apply the chine law to".into(),
+            "the model has no sharp edges along its length (x): no keel or chine lines to apply the chine law to"
+                .into(),
         ));
     }
     Ok((lines, (lo, hi)))
@@ -543,70 +544,121 @@ fn samples(knots: &KnotVector, per: usize) -> Vec<f64> {
     out
 }
 
-/// Largest distance between the surface with its control points moved by `law` and the
-/// law applied to the surface's points.
-fn deviation(s: &NurbsSurface, law: &ChineLaw) -> f64 {
+/// The distance between the surface with its control points moved by `law` and the law
+/// applied to the surface's points, sampled, per knot span along the length: each span's
+/// x range and largest distance.
+fn deviation(s: &NurbsSurface, law: &ChineLaw) -> Vec<((f64, f64), f64)> {
     let mut moved = s.clone();
     for q in moved.control_points_mut() {
         *q = law.deform_point(q);
     }
-    let (us, vs) = (samples(s.u_knots(), 3), samples(s.v_knots(), 2));
-    let mut worst: f64 = 0.0;
-    for &u in &us {
-        for &v in &vs {
-            let exact = law.deform_point(&s.eval(u, v));
-            worst = worst.max((moved.eval(u, v) - exact).norm());
-        }
-    }
-    worst
+    let u = along_u(s);
+    let (along, across) = if u { (s.u_knots(), s.v_knots()) } else { (s.v_knots(), s.u_knots()) };
+    let (k, _) = along.distinct();
+    let across = samples(across, 2);
+    let per = 3;
+    k.windows(2)
+        .map(|w| {
+            let mut worst: f64 = 0.0;
+            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+            for i in 0..=per + 1 {
+                let a = w[0] + (w[1] - w[0]) * i as f64 / (per + 1) as f64;
+                for &b in &across {
+                    let (uu, vv) = if u { (a, b) } else { (b, a) };
+                    let p = s.eval(uu, vv);
+                    lo = lo.min(p.x);
+                    hi = hi.max(p.x);
+                    worst = worst.max((moved.eval(uu, vv) - law.deform_point(&p)).norm());
+                }
+            }
+            ((lo, hi), worst)
+        })
+        .collect()
 }
 
-/// Bisects every span along the length.
-fn bisect(s: &mut NurbsSurface) -> Result<()> {
+/// Bisects the spans along the length whose x range meets one of `flagged`.
+fn bisect(s: &mut NurbsSurface, flagged: &[(f64, f64)], eps: f64) -> Result<usize> {
     let u = along_u(s);
     let knots = if u { s.u_knots() } else { s.v_knots() };
     let (k, _) = knots.distinct();
-    let mids: Vec<f64> = k.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
+    let spans = deviation_ranges(s, u, &k);
+    let mids: Vec<f64> = k
+        .windows(2)
+        .zip(spans)
+        .filter(|(_, (lo, hi))| flagged.iter().any(|f| f.0 <= hi + eps && f.1 >= lo - eps))
+        .map(|(w, _)| 0.5 * (w[0] + w[1]))
+        .collect();
     let r = if u { s.refine_u(&mids) } else { s.refine_v(&mids) };
-    r.map_err(|e| Error::Invalid(format!("refining a face along the length: {e}")))
+    r.map_err(|e| Error::Invalid(format!("refining a face along the length: {e}")))?;
+    Ok(mids.len())
+}
+
+/// The x range of each knot span along the length (sampled like [`deviation`]).
+fn deviation_ranges(s: &NurbsSurface, u: bool, k: &[f64]) -> Vec<(f64, f64)> {
+    let across = samples(if u { s.v_knots() } else { s.u_knots() }, 2);
+    k.windows(2)
+        .map(|w| {
+            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+            for i in 0..=4 {
+                let a = w[0] + (w[1] - w[0]) * i as f64 / 4.0;
+                for &b in &across {
+                    let p = if u { s.eval(a, b) } else { s.eval(b, a) };
+                    lo = lo.min(p.x);
+                    hi = hi.max(p.x);
+                }
+            }
+            (lo, hi)
+        })
+        .collect()
 }
 
 /// Applies the chine law to `model`: the B-spline faces the law moves are refined along
-/// the length (every span bisected, the same on every face so shared edges keep equal
-/// control points) until each is within `tol` of the law applied to every point of it,
+/// the length (in every round, each face's spans bisected where some face is further
+/// than `tol` from the law, by x range, so faces sharing an edge with the same knots keep
+/// equal control points on it) until each is within `tol` of the law applied to every
+/// point of it,
 /// then the model is morphed (analytic faces that move, such as a transom, become their
 /// exact B-spline form).
 ///
 /// # Errors
 ///
-/// [`Error::Invalid`] when 16 rounds do not reach `tol`; the model's errors.
+/// [`Error::Invalid`] when 20 rounds do not reach `tol`; the model's errors.
 pub fn chine<D: CadDocument>(model: &mut Model<D>, law: &ChineLaw, tol: f64) -> Result<ChineReport> {
     if !(tol > 0.0) {
         return Err(Error::Invalid(format!("the chine law's tolerance must be positive, not {tol}")));
     }
     let faces = model.patches().to_vec();
     let before: usize = faces.iter().map(|f| f.surface.control_points().len()).sum();
+    let worst_of = |d: &[((f64, f64), f64)]| d.iter().map(|e| e.1).fold(0.0, f64::max);
     // The faces the law moves: any control point or surface sample displaced.
     let moves = |s: &NurbsSurface| {
-        s.control_points().iter().any(|p| law.deform_point(p) != *p) || deviation(s, law) > 0.0
+        s.control_points().iter().any(|p| law.deform_point(p) != *p) || worst_of(&deviation(s, law)) > 0.0
     };
     let targets: Vec<usize> =
         (0..faces.len()).filter(|&i| !faces[i].kind.is_analytic() && moves(&faces[i].surface)).collect();
     let mut surfaces: Vec<NurbsSurface> = targets.iter().map(|&i| faces[i].surface.clone()).collect();
     let mut rounds = 0;
-    let mut worst = surfaces.iter().map(|s| deviation(s, law)).fold(0.0, f64::max);
-    while worst > tol {
-        if rounds == 16 {
+    let eps = 1e-9 * model.size();
+    loop {
+        // The x ranges where some face is off: every face is bisected there, so faces
+        // sharing an edge (the same knots along it) keep equal control points on it.
+        let devs: Vec<_> = surfaces.iter().map(|s| deviation(s, law)).collect();
+        let worst = devs.iter().map(|d| worst_of(d)).fold(0.0, f64::max);
+        if worst <= tol {
+            break;
+        }
+        if rounds == 20 {
             return Err(Error::Invalid(format!(
                 "the chine law's faces are still {worst:.3e} from the law after {rounds} bisections along the length (tolerance {tol:.3e}); nothing written"
             )));
         }
+        let flagged: Vec<(f64, f64)> = devs.iter().flatten().filter(|e| e.1 > tol).map(|e| e.0).collect();
         for s in &mut surfaces {
-            bisect(s)?;
+            bisect(s, &flagged, eps)?;
         }
         rounds += 1;
-        worst = surfaces.iter().map(|s| deviation(s, law)).fold(0.0, f64::max);
     }
+    let worst = surfaces.iter().map(|s| worst_of(&deviation(s, law))).fold(0.0, f64::max);
     for (&i, s) in targets.iter().zip(surfaces) {
         if rounds > 0 {
             model.set_patch_surface(i, s)?;

@@ -38,7 +38,7 @@ fn chine_law_rotates_the_bottom_and_keeps_the_chines_joined() {
     let original = ChineLaw::new(&m, Law::new(&[0.0]).unwrap(), None).unwrap();
     let law = ChineLaw::new(&m, theta(), None).unwrap();
     assert_eq!(law.lines().len(), 7, "keel, two chines and the deck edge per side");
-    let r = chine(&mut m, &law, 1e-8 * LENGTH).unwrap();
+    let r = chine(&mut m, &law, 1e-7 * LENGTH).unwrap();
     eprintln!(
         "rounds {}, control points {} -> {}, deviation {:.2e}, seams after: max gap {:.2e}, sharp {}",
         r.rounds,
@@ -76,7 +76,7 @@ fn chine_law_rotates_the_bottom_and_keeps_the_chines_joined() {
 fn iges_sample_takes_the_same_law() {
     let mut m = IgesModel::open(&sample("planing_hull.igs")).unwrap();
     let law = ChineLaw::new(&m, theta(), None).unwrap();
-    let r = chine(&mut m, &law, 1e-8 * LENGTH).unwrap();
+    let r = chine(&mut m, &law, 1e-7 * LENGTH).unwrap();
     eprintln!("IGES: rounds {}, seams after max gap {:.2e}", r.rounds, r.morph.seams_after.max_gap_closest);
     assert!(r.morph.seams_after.max_gap_closest <= 1e-7 * LENGTH);
 }
@@ -88,7 +88,7 @@ fn impossible_laws_fail_before_anything_moves() {
     let e = ChineLaw::new(&m, Law::new(&[0.05]).unwrap(), None).unwrap_err().to_string();
     assert!(e.contains("closes"), "{e}");
     // So large that the chine crosses the centreline.
-    let e = ChineLaw::new(&m, Law::new(&[-1.5, -1.5, 0.0]).unwrap(), None).unwrap_err().to_string();
+    let e = ChineLaw::new(&m, Law::new(&[1.5, 1.5, 0.0]).unwrap(), None).unwrap_err().to_string();
     eprintln!("{e}");
     assert!(e.contains("folds") || e.contains("centreline"), "{e}");
     // A model with no chines.
@@ -157,7 +157,7 @@ fn chine_law_measured_by_occt() {
     let input = sample("planing_hull.stp");
     let mut m = StepModel::open(&input).unwrap();
     let law = ChineLaw::new(&m, theta(), None).unwrap();
-    chine(&mut m, &law, 1e-8 * LENGTH).unwrap();
+    chine(&mut m, &law, 1e-7 * LENGTH).unwrap();
     let d = dir("occt");
     let out = d.join("chine.stp");
     m.save(&out).unwrap();

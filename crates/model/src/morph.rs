@@ -442,9 +442,8 @@ impl<D: CadDocument> Model<D> {
                 d.deform(c.control_points_mut());
                 c
             });
-            let Some(c) = composed
-                .or(own)
-                .or_else(|| follow_face(&b.curve, &unmoved[face], &self.faces[face].surface, d, tol))
+            let Some(c) =
+                composed.or(own).or_else(|| follow_face(&b.curve, &unmoved[face], &self.faces[face].surface, d, tol))
             else {
                 continue;
             };
