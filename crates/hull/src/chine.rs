@@ -624,7 +624,7 @@ fn deviation_ranges(s: &NurbsSurface, u: bool, k: &[f64]) -> Vec<(f64, f64)> {
 ///
 /// [`Error::Invalid`] when 20 rounds do not reach `tol`; the model's errors.
 pub fn chine<D: CadDocument>(model: &mut Model<D>, law: &ChineLaw, tol: f64) -> Result<ChineReport> {
-    if !(tol > 0.0) {
+    if tol.is_nan() || tol <= 0.0 {
         return Err(Error::Invalid(format!("the chine law's tolerance must be positive, not {tol}")));
     }
     let faces = model.patches().to_vec();
