@@ -5,9 +5,9 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
-use cadmorph::model::{Model, MorphOptions, Staged};
+use cadmorph::model::{Model, Staged};
 use cadmorph::morph::{Deformation, Ffd, LinearInParameters, Parameters};
-use cadmorph_hull::{chine, enclosed, keep, lcb_shift, ChineLaw, Keep, KeepReport, Law, Side};
+use cadmorph_hull::{change_dimensions, chine, enclosed, keep, ChineLaw, DimsChange, Keep, KeepReport, Law, Side};
 
 /// `cadmorph hull` subcommands.
 #[derive(clap::Subcommand)]
@@ -21,15 +21,43 @@ pub enum HullCommand {
         #[arg(long)]
         json: bool,
     },
-    /// Principal-dimension changes of a closed hull: a Lackenby-style shift of the
-    /// longitudinal centre of buoyancy (sections moved along x, volume kept).
+    /// Principal-dimension changes of a closed hull (x along the length, y across, z up),
+    /// in this order: a Lackenby-style section shift (LCB and block coefficient, at the
+    /// same length, beam and draft), the length by stretching the parallel middle body
+    /// (bow and stern translated, kept in shape), beam and draft by scaling about the
+    /// centreline and the baseline.
     Dims {
-        /// The input IGES or STEP file (a closed hull, x along the length).
+        /// The input IGES or STEP file (a closed hull).
         input: PathBuf,
         /// Move the LCB (the centroid of the enclosed volume) by this much along +x,
         /// model units.
         #[arg(long, allow_hyphen_values = true)]
-        lcb_shift: f64,
+        lcb_shift: Option<f64>,
+        /// The new block coefficient V / (L B T), reached by moving sections along the
+        /// length.
+        #[arg(long)]
+        block_coefficient: Option<f64>,
+        /// The new length (the model's x extent), model units.
+        #[arg(long)]
+        length: Option<f64>,
+        /// The parallel middle body the length change stretches, `X0,X1` (model units);
+        /// without it the whole length scales about the aft end.
+        #[arg(long, value_name = "X0,X1", allow_hyphen_values = true)]
+        middle_body: Option<String>,
+        /// The new beam (the y extent).
+        #[arg(long)]
+        beam: Option<f64>,
+        /// The new draft (baseline to waterline).
+        #[arg(long)]
+        draft: Option<f64>,
+        /// The waterline height z of the draft and block coefficient (default: the top
+        /// of the model, right for an underwater body closed at its waterplane).
+        #[arg(long, allow_hyphen_values = true)]
+        waterline: Option<f64>,
+        /// Largest distance of a face from the length stretch where it is not exact,
+        /// model units (default 1e-7 × the model size).
+        #[arg(long)]
+        tol: Option<f64>,
         /// The output file (its extension names the format).
         #[arg(short, long)]
         output: PathBuf,
@@ -192,32 +220,81 @@ pub fn run(cmd: HullCommand) -> Result<()> {
             }
             Ok(())
         }
-        HullCommand::Dims { input, lcb_shift: dx, output, json } => {
+        HullCommand::Dims {
+            input,
+            lcb_shift,
+            block_coefficient,
+            length,
+            middle_body,
+            beam,
+            draft,
+            waterline,
+            tol,
+            output,
+            json,
+        } => {
             let format = cadmorph::Format::from_extension(&output)
                 .ok_or_else(|| cadmorph::Error::UnknownExtension { path: output.clone() })?;
+            let middle_body = middle_body
+                .map(|t| -> Result<(f64, f64)> {
+                    let v: Vec<&str> = t.split(',').collect();
+                    let num = |s: &str| s.trim().parse::<f64>().ok();
+                    match v.as_slice() {
+                        [a, b] => match (num(a), num(b)) {
+                            (Some(a), Some(b)) => Ok((a, b)),
+                            _ => bail!("--middle-body: expected two numbers X0,X1, got {t:?}"),
+                        },
+                        _ => bail!("--middle-body: expected two numbers X0,X1, got {t:?}"),
+                    }
+                })
+                .transpose()?;
+            if [lcb_shift, block_coefficient, length, beam, draft].iter().all(Option::is_none) {
+                bail!("hull dims: nothing to change (give --lcb-shift, --block-coefficient, --length, --beam or --draft)");
+            }
             let mut m = cadmorph::open(&input)?;
             crate::skipped::check(&m.info().skipped, false)?;
-            let (shift, report) = lcb_shift(m.patches(), m.bound_curves(), m.size(), dx)
-                .with_context(|| format!("shifting the LCB of {}; nothing written", input.display()))?;
-            m.morph(&shift, &MorphOptions::default()).with_context(|| format!("morphing {}", input.display()))?;
+            let unit = crate::units::words(m.units().metres_per_unit, m.unit());
+            let change = DimsChange { length, middle_body, beam, draft, waterline, lcb_shift, block_coefficient };
+            let tol = tol.unwrap_or(1e-7 * m.size());
+            let r = change_dimensions(&mut m, &change, tol)
+                .with_context(|| format!("changing the dimensions of {}; nothing written", input.display()))?;
+            if r.max_gap_after > tol {
+                bail!(
+                    "changing the dimensions opened a seam of {:.3e} {unit} (tolerance {tol:.3e}); nothing written",
+                    r.max_gap_after
+                );
+            }
             let bytes = if format == m.format() { m.to_bytes() } else { cadmorph::convert(&m, format)?.to_bytes() };
             Staged::new(&output, &bytes)?.commit()?;
             if json {
-                println!("{}", serde_json::to_string_pretty(&report)?);
+                let mut out = serde_json::to_value(&r)?;
+                out["input"] = input.display().to_string().into();
+                out["output"] = output.display().to_string().into();
+                out["unit"] = crate::units::json(m.units().metres_per_unit, m.unit());
+                println!("{}", serde_json::to_string_pretty(&out)?);
             } else {
+                let (a, b) = (&r.before, &r.after);
+                println!("{} -> {} ({unit}):", input.display(), output.display());
+                println!("  length {:.9} -> {:.9}, beam {:.9} -> {:.9}, draft {:.9} -> {:.9}", a.length, b.length, a.beam, b.beam, a.draft, b.draft);
                 println!(
-                    "{} -> {}: LCB {:.9} -> {:.9} {} (asked {:+}, reached {:+.3e}), volume change {:+.3e} relative; shift a = {:.6}, b = {:.6}",
-                    input.display(),
-                    output.display(),
-                    report.before.centroid().x,
-                    report.after.centroid().x,
-                    crate::units::words(m.units().metres_per_unit, m.unit()),
-                    dx,
-                    report.reached,
-                    (report.after.volume - report.before.volume) / report.before.volume,
-                    shift.a,
-                    shift.b
+                    "  volume {:.9e} -> {:.9e} cubic {unit} ({:+.3e} relative), block coefficient {:.9} -> {:.9}, LCB {:.9} -> {:.9}",
+                    a.volume,
+                    b.volume,
+                    (b.volume - a.volume) / a.volume,
+                    a.block_coefficient,
+                    b.block_coefficient,
+                    a.lcb,
+                    b.lcb
                 );
+                if let Some((sa, sb)) = r.section_shift {
+                    println!("  section shift a = {sa:.6}, b = {sb:.6}");
+                }
+                if let Some(s) = r.stretch {
+                    println!(
+                        "  stretched {:.6} .. {:.6} by {:+.6} ({} knots where the stretch bends); seams after: max gap {:.3e}",
+                        s.x0, s.x1, s.added, r.knots_at_bends, r.max_gap_after
+                    );
+                }
             }
             Ok(())
         }

@@ -44,9 +44,11 @@
 
 use cadmorph_brep::CadDocument;
 use cadmorph_model::{Model, MorphOptions, MorphOutcome};
+
+use crate::refine::along_length;
 use cadmorph_morph::math::Point3;
 use cadmorph_morph::Deformation;
-use cadmorph_nurbs::{Curve, KnotVector, NurbsCurve, NurbsSurface, Surface};
+use cadmorph_nurbs::{Curve, KnotVector, NurbsCurve};
 use serde::Serialize;
 
 use crate::{Error, Result};
@@ -521,157 +523,26 @@ pub struct ChineReport {
     pub morph: MorphOutcome,
 }
 
-/// The parametric direction along the length (the one x varies most in): `true` for u.
-fn along_u(s: &NurbsSurface) -> bool {
-    let (ud, vd) = s.domain();
-    let (um, vm) = (0.5 * (ud.start() + ud.end()), 0.5 * (vd.start() + vd.end()));
-    let du = (s.eval(*ud.end(), vm).x - s.eval(*ud.start(), vm).x).abs();
-    let dv = (s.eval(um, *vd.end()).x - s.eval(um, *vd.start()).x).abs();
-    du >= dv
-}
-
-/// Sample parameters of a knot vector's domain: every distinct knot and `per` points
-/// inside each span.
-fn samples(knots: &KnotVector, per: usize) -> Vec<f64> {
-    let (k, _) = knots.distinct();
-    let mut out = vec![k[0]];
-    for w in k.windows(2) {
-        for i in 1..=per {
-            out.push(w[0] + (w[1] - w[0]) * i as f64 / (per + 1) as f64);
-        }
-        out.push(w[1]);
-    }
-    out
-}
-
-/// The distance between the surface with its control points moved by `law` and the law
-/// applied to the surface's points, sampled, per knot span along the length: each span's
-/// x range and largest distance.
-fn deviation(s: &NurbsSurface, law: &ChineLaw) -> Vec<((f64, f64), f64)> {
-    let mut moved = s.clone();
-    for q in moved.control_points_mut() {
-        *q = law.deform_point(q);
-    }
-    let u = along_u(s);
-    let (along, across) = if u { (s.u_knots(), s.v_knots()) } else { (s.v_knots(), s.u_knots()) };
-    let (k, _) = along.distinct();
-    let across = samples(across, 2);
-    let per = 3;
-    k.windows(2)
-        .map(|w| {
-            let mut worst: f64 = 0.0;
-            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-            for i in 0..=per + 1 {
-                let a = w[0] + (w[1] - w[0]) * i as f64 / (per + 1) as f64;
-                for &b in &across {
-                    let (uu, vv) = if u { (a, b) } else { (b, a) };
-                    let p = s.eval(uu, vv);
-                    lo = lo.min(p.x);
-                    hi = hi.max(p.x);
-                    worst = worst.max((moved.eval(uu, vv) - law.deform_point(&p)).norm());
-                }
-            }
-            ((lo, hi), worst)
-        })
-        .collect()
-}
-
-/// Bisects the spans along the length whose x range meets one of `flagged`.
-fn bisect(s: &mut NurbsSurface, flagged: &[(f64, f64)], eps: f64) -> Result<usize> {
-    let u = along_u(s);
-    let knots = if u { s.u_knots() } else { s.v_knots() };
-    let (k, _) = knots.distinct();
-    let spans = deviation_ranges(s, u, &k);
-    let mids: Vec<f64> = k
-        .windows(2)
-        .zip(spans)
-        .filter(|(_, (lo, hi))| flagged.iter().any(|f| f.0 <= hi + eps && f.1 >= lo - eps))
-        .map(|(w, _)| 0.5 * (w[0] + w[1]))
-        .collect();
-    let r = if u { s.refine_u(&mids) } else { s.refine_v(&mids) };
-    r.map_err(|e| Error::Invalid(format!("refining a face along the length: {e}")))?;
-    Ok(mids.len())
-}
-
-/// The x range of each knot span along the length (sampled like [`deviation`]).
-fn deviation_ranges(s: &NurbsSurface, u: bool, k: &[f64]) -> Vec<(f64, f64)> {
-    let across = samples(if u { s.v_knots() } else { s.u_knots() }, 2);
-    k.windows(2)
-        .map(|w| {
-            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-            for i in 0..=4 {
-                let a = w[0] + (w[1] - w[0]) * i as f64 / 4.0;
-                for &b in &across {
-                    let p = if u { s.eval(a, b) } else { s.eval(b, a) };
-                    lo = lo.min(p.x);
-                    hi = hi.max(p.x);
-                }
-            }
-            (lo, hi)
-        })
-        .collect()
-}
-
 /// Applies the chine law to `model`: the B-spline faces the law moves are refined along
-/// the length (in every round, each face's spans bisected where some face is further
-/// than `tol` from the law, by x range, so faces sharing an edge with the same knots keep
-/// equal control points on it) until each is within `tol` of the law applied to every
-/// point of it,
-/// then the model is morphed (analytic faces that move, such as a transom, become their
-/// exact B-spline form).
+/// the length until each is within `tol` of the law applied to every point of it
+/// ([`along_length`]), then the model is morphed (analytic faces that move, such as a
+/// transom, become their exact B-spline form).
 ///
 /// # Errors
 ///
-/// [`Error::Invalid`] when 20 rounds do not reach `tol`; the model's errors.
+/// Those of [`along_length`]; the model's errors.
 pub fn chine<D: CadDocument>(model: &mut Model<D>, law: &ChineLaw, tol: f64) -> Result<ChineReport> {
     if tol.is_nan() || tol <= 0.0 {
         return Err(Error::Invalid(format!("the chine law's tolerance must be positive, not {tol}")));
     }
-    let faces = model.patches().to_vec();
-    let before: usize = faces.iter().map(|f| f.surface.control_points().len()).sum();
-    let worst_of = |d: &[((f64, f64), f64)]| d.iter().map(|e| e.1).fold(0.0, f64::max);
-    // The faces the law moves: any control point or surface sample displaced.
-    let moves = |s: &NurbsSurface| {
-        s.control_points().iter().any(|p| law.deform_point(p) != *p) || worst_of(&deviation(s, law)) > 0.0
-    };
-    let targets: Vec<usize> =
-        (0..faces.len()).filter(|&i| !faces[i].kind.is_analytic() && moves(&faces[i].surface)).collect();
-    let mut surfaces: Vec<NurbsSurface> = targets.iter().map(|&i| faces[i].surface.clone()).collect();
-    let mut rounds = 0;
-    let eps = 1e-9 * model.size();
-    loop {
-        // The x ranges where some face is off: every face is bisected there, so faces
-        // sharing an edge (the same knots along it) keep equal control points on it.
-        let devs: Vec<_> = surfaces.iter().map(|s| deviation(s, law)).collect();
-        let worst = devs.iter().map(|d| worst_of(d)).fold(0.0, f64::max);
-        if worst <= tol {
-            break;
-        }
-        if rounds == 20 {
-            return Err(Error::Invalid(format!(
-                "the chine law's faces are still {worst:.3e} from the law after {rounds} bisections along the length (tolerance {tol:.3e}); nothing written"
-            )));
-        }
-        let flagged: Vec<(f64, f64)> = devs.iter().flatten().filter(|e| e.1 > tol).map(|e| e.0).collect();
-        for s in &mut surfaces {
-            bisect(s, &flagged, eps)?;
-        }
-        rounds += 1;
-    }
-    let worst = surfaces.iter().map(|s| worst_of(&deviation(s, law))).fold(0.0, f64::max);
-    for (&i, s) in targets.iter().zip(surfaces) {
-        if rounds > 0 {
-            model.set_patch_surface(i, s)?;
-        }
-    }
-    let after: usize = model.patches().iter().map(|f| f.surface.control_points().len()).sum();
+    let r = along_length(model, law, tol, "the chine law")?;
     let morph = model.morph(law, &MorphOptions::default())?;
     Ok(ChineReport {
         lines: law.lines.iter().map(|l| (l.edge, l.side, l.x)).collect(),
-        rounds,
-        control_points_before: before,
-        control_points_after: after,
-        max_deviation: worst,
+        rounds: r.rounds,
+        control_points_before: r.control_points_before,
+        control_points_after: r.control_points_after,
+        max_deviation: r.max_deviation,
         tolerance: tol,
         morph,
     })

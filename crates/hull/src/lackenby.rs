@@ -119,25 +119,46 @@ fn moved(faces: &[Face], bounds: &[BoundCurve], d: &dyn Deformation) -> (Vec<Fac
 /// Those of [`enclosed`]; [`Error::Invalid`] when Newton does not converge or the shift
 /// would fold the sections (`|dx|` too large for the hull's length).
 pub fn lcb_shift(faces: &[Face], bounds: &[BoundCurve], size: f64, dx: f64) -> Result<(SectionShift, LcbReport)> {
+    section_shift(faces, bounds, size, dx, 1.0)
+}
+
+/// The section shift that moves the LCB by `dx` and multiplies the enclosed volume by
+/// `volume_factor`: at a fixed length, beam and draft this changes the block coefficient
+/// `C_B = V / (L B T)` by the same factor (Lackenby's change of fullness).
+///
+/// # Errors
+///
+/// Those of [`lcb_shift`]; [`Error::Invalid`] for a factor that is not positive.
+pub fn section_shift(
+    faces: &[Face],
+    bounds: &[BoundCurve],
+    size: f64,
+    dx: f64,
+    volume_factor: f64,
+) -> Result<(SectionShift, LcbReport)> {
     if !dx.is_finite() {
         return Err(Error::Invalid(format!("the LCB shift must be finite, not {dx}")));
+    }
+    if !(volume_factor.is_finite() && volume_factor > 0.0) {
+        return Err(Error::Invalid(format!("the volume factor must be positive, not {volume_factor}")));
     }
     let before = enclosed(faces, bounds, size)?;
     let by_face = bounds_by_face(faces.len(), bounds);
     let methods: Vec<FaceMethod> =
         faces.iter().zip(&by_face).map(|(f, fb)| face_method(f, fb, size)).collect::<Result<_>>()?;
-    let (x_aft, x_fore) = faces
-        .iter()
-        .flat_map(|f| f.surface.control_points().iter().map(|p| p.x))
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| (lo.min(x), hi.max(x)));
+    // The hull's ends from its curves and untrimmed faces: a trimmed face's patch may reach
+    // beyond the hull (IGES trimmed planes), which would move the end sections.
+    let (lo, hi) = crate::dims::extent(faces, bounds);
+    let (x_aft, x_fore) = (lo[0], hi[0]);
     let length = x_fore - x_aft;
     let v0 = before.total.volume;
+    let v_target = v0 * volume_factor;
     let target = before.total.centroid().x + dx;
     let eval = |a: f64, b: f64| -> Result<Vector2<f64>> {
         let s = SectionShift { x_aft, x_fore, a, b };
         let (f, bc) = moved(faces, bounds, &s);
         let e = enclosed_with(&f, &bc, size, &methods)?;
-        Ok(Vector2::new((e.total.moment[0] - target * e.total.volume) / (v0 * length), (e.total.volume - v0) / v0))
+        Ok(Vector2::new((e.total.moment[0] - target * e.total.volume) / (v0 * length), (e.total.volume - v_target) / v0))
     };
     let (mut a, mut b) = (0.0, 0.0);
     let h = 1e-3;
@@ -160,7 +181,7 @@ pub fn lcb_shift(faces: &[Face], bounds: &[BoundCurve], size: f64, dx: f64) -> R
                 (0..=200).map(|k| 1.0 + shift.slope(x_aft + length * k as f64 / 200.0)).fold(f64::INFINITY, f64::min);
             if worst <= 0.0 {
                 return Err(Error::Invalid(format!(
-                    "an LCB shift of {dx} needs sections to overtake each other (dδx/dx = {:.3}): too large for a hull of length {length}",
+                    "an LCB shift of {dx} (volume times {volume_factor}) needs sections to overtake each other (dδx/dx = {:.3}): too large for a hull of length {length}",
                     worst - 1.0
                 )));
             }
@@ -187,6 +208,6 @@ pub fn lcb_shift(faces: &[Face], bounds: &[BoundCurve], size: f64, dx: f64) -> R
         }
     }
     Err(Error::Invalid(format!(
-        "no section shift moving the LCB by {dx} with the volume kept was found (Newton did not converge)"
+        "no section shift moving the LCB by {dx} with the volume times {volume_factor} was found (Newton did not converge)"
     )))
 }

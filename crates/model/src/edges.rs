@@ -27,8 +27,9 @@ pub(crate) fn edge_tol(faces: &[Face]) -> f64 {
 ///   trims of 144/143 faces) meets its neighbours exactly where those curves say: edges
 ///   the file names (the same `EDGE_CURVE` at the same occurrence, the same 504 edge),
 ///   and trimming curves of two faces that lie on each other over their length;
-/// - only faces without any bound curve (bare surfaces) are paired by their
-///   iso-boundaries, and only with each other.
+/// - faces without any bound curve (bare surfaces) are paired by their iso-boundaries
+///   with each other, and with a bounded face where one of its bound curves lies on an
+///   iso-boundary of theirs (see `mixed_edges`).
 ///
 /// Such an edge is given as an iso-boundary edge (which seam repair can make exact)
 /// when it runs along an iso-boundary of both its faces over that boundary overlap's
@@ -73,7 +74,47 @@ pub(crate) fn shared_edges(faces: &[Face], bounds: &[BoundCurve]) -> (Vec<Shared
             None => trims.push(t),
         }
     }
+    trims.extend(mixed_edges(faces, bounds, &bounded, tol));
     (iso, trims)
+}
+
+/// Edges between a face with bound curves and a bare surface (IGES: a trimmed plane
+/// closing a set of untrimmed B-spline patches, like a transom or a deck): a bound curve
+/// of the one that lies on an iso-boundary of the other over its length. Bare
+/// boundaries that have shrunk to a point (a patch closing at a stem) pair with nothing.
+fn mixed_edges(faces: &[Face], bounds: &[BoundCurve], bounded: &[bool], tol: f64) -> Vec<TrimEdge> {
+    if bounded.iter().all(|&b| b) || bounded.iter().all(|&b| !b) {
+        return Vec::new();
+    }
+    let key = |m: &cadmorph_nurbs::math::Matrix4<f64>| -> [u64; 16] { std::array::from_fn(|k| m.as_slice()[k].to_bits()) };
+    let mut groups: Vec<([u64; 16], Vec<TrimCurve>)> = Vec::new();
+    let mut push = |k: [u64; 16], c: TrimCurve| match groups.iter_mut().find(|g| g.0 == k) {
+        Some(g) => g.1.push(c),
+        None => groups.push((k, vec![c])),
+    };
+    for b in bounds {
+        push(key(&b.placement), TrimCurve { patch: b.face, curve: b.curve.clone(), label: Some(b.label) });
+    }
+    for (k, f) in faces.iter().enumerate().filter(|(k, _)| !bounded[*k]) {
+        for side in cadmorph_nurbs::Side::ALL {
+            let c = f.surface.boundary(side);
+            let d = c.domain();
+            let length: f64 = (0..16)
+                .map(|i| {
+                    let t = |j: usize| d.start() + (d.end() - d.start()) * j as f64 / 16.0;
+                    (c.eval(t(i + 1)) - c.eval(t(i))).norm()
+                })
+                .sum();
+            if length > tol {
+                push(key(&f.placement), TrimCurve { patch: k, curve: c, label: None });
+            }
+        }
+    }
+    groups
+        .into_iter()
+        .flat_map(|(_, curves)| shared_curves(&curves, tol, 32, 0.9))
+        .filter(|e| e.a != e.b && bounded[e.a] != bounded[e.b])
+        .collect()
 }
 
 /// The shared edges of `bounds` that are not among the iso-boundary edges `iso`.

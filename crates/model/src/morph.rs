@@ -474,9 +474,9 @@ impl<D: CadDocument> Model<D> {
 /// curves. Moving the form's corners would give the same plane in other parameters whose
 /// extent may no longer cover the moved boundary; instead the form is re-bounded: a
 /// bilinear patch of the plane's own parameterisation over the box of the moved curves'
-/// control points (which hold the curves, Piegl & Tiller property P4.9) and of the old
-/// extent. `None` when the morph takes the face out of its plane (or the form is not an
-/// affine plane).
+/// control points (which hold the curves, Piegl & Tiller property P4.9). `None` when the
+/// morph takes the face out of its plane (or the form is not an affine plane, or it has
+/// no curves).
 fn in_plane<'a>(
     plane: &NurbsSurface,
     moved: &NurbsSurface,
@@ -515,7 +515,7 @@ fn in_plane<'a>(
         let (x, y) = (r.dot(&eu), r.dot(&ev));
         ((c * x - b * y) / det, (a * y - b * x) / det)
     };
-    let (mut lo, mut hi) = ((0.0f64, 0.0f64), (1.0f64, 1.0f64));
+    let (mut lo, mut hi) = ((f64::INFINITY, f64::INFINITY), (f64::NEG_INFINITY, f64::NEG_INFINITY));
     for curve in curves {
         let mut k = curve.curve.clone();
         d.deform(k.control_points_mut());
@@ -527,6 +527,9 @@ fn in_plane<'a>(
             lo = (lo.0.min(s), lo.1.min(t));
             hi = (hi.0.max(s), hi.1.max(t));
         }
+    }
+    if !(lo.0 < hi.0 && lo.1 < hi.1) {
+        return None;
     }
     let at = |s: f64, t: f64| o + eu * s + ev * t;
     // In the form's parameter ranges, so the face keeps its parameter domain; control
