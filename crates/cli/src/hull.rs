@@ -249,7 +249,9 @@ pub fn run(cmd: HullCommand) -> Result<()> {
                 })
                 .transpose()?;
             if [lcb_shift, block_coefficient, length, beam, draft].iter().all(Option::is_none) {
-                bail!("hull dims: nothing to change (give --lcb-shift, --block-coefficient, --length, --beam or --draft)");
+                bail!(
+                    "hull dims: nothing to change (give --lcb-shift, --block-coefficient, --length, --beam or --draft)"
+                );
             }
             let mut m = cadmorph::open(&input)?;
             crate::skipped::check(&m.info().skipped, false)?;
@@ -275,7 +277,10 @@ pub fn run(cmd: HullCommand) -> Result<()> {
             } else {
                 let (a, b) = (&r.before, &r.after);
                 println!("{} -> {} ({unit}):", input.display(), output.display());
-                println!("  length {:.9} -> {:.9}, beam {:.9} -> {:.9}, draft {:.9} -> {:.9}", a.length, b.length, a.beam, b.beam, a.draft, b.draft);
+                println!(
+                    "  length {:.9} -> {:.9}, beam {:.9} -> {:.9}, draft {:.9} -> {:.9}",
+                    a.length, b.length, a.beam, b.beam, a.draft, b.draft
+                );
                 println!(
                     "  volume {:.9e} -> {:.9e} cubic {unit} ({:+.3e} relative), block coefficient {:.9} -> {:.9}, LCB {:.9} -> {:.9}",
                     a.volume,

@@ -209,7 +209,8 @@ fn split_at_bends(s: &mut NurbsSurface, xs: [f64; 2], eps: f64) -> Result<usize>
         let at = |t: f64, w: f64| if along_u { reference.eval(t, w).x } else { reference.eval(w, t).x };
         let (t0, t1, w0, w1) = if along_u { (u0, u1, v0, v1) } else { (v0, v1, u0, u1) };
         let ts: Vec<f64> = (0..=n).map(|i| t0 + (t1 - t0) * i as f64 / n as f64).collect();
-        let alone = ts.iter().all(|&t| (0..=4).all(|j| (at(t, w0 + (w1 - w0) * j as f64 / 4.0) - at(t, w0)).abs() <= eps));
+        let alone =
+            ts.iter().all(|&t| (0..=4).all(|j| (at(t, w0 + (w1 - w0) * j as f64 / 4.0) - at(t, w0)).abs() <= eps));
         let xs_t: Vec<f64> = ts.iter().map(|&t| at(t, w0)).collect();
         let rising = xs_t[n] > xs_t[0];
         let monotone = xs_t.windows(2).all(|w| if rising { w[1] > w[0] } else { w[1] < w[0] });
@@ -261,7 +262,8 @@ fn split_at_bends(s: &mut NurbsSurface, xs: [f64; 2], eps: f64) -> Result<usize>
 /// [`along_length`] and the model's.
 pub fn change_dimensions<D: CadDocument>(model: &mut Model<D>, c: &DimsChange, tol: f64) -> Result<DimsReport> {
     let before = dimensions(model, c.waterline)?;
-    for (what, v) in [("length", c.length), ("beam", c.beam), ("draft", c.draft), ("block coefficient", c.block_coefficient)]
+    for (what, v) in
+        [("length", c.length), ("beam", c.beam), ("draft", c.draft), ("block coefficient", c.block_coefficient)]
     {
         if let Some(v) = v {
             if !(v.is_finite() && v > 0.0) {
@@ -320,7 +322,8 @@ pub fn change_dimensions<D: CadDocument>(model: &mut Model<D>, c: &DimsChange, t
     let ft = c.draft.map_or(1.0, |t| t / before.draft);
     if fb != 1.0 || ft != 1.0 {
         let z0 = before.baseline;
-        let a = Affine::new(Matrix3::from_diagonal(&Vector3::new(1.0, fb, ft)), Vector3::new(0.0, 0.0, z0 * (1.0 - ft)));
+        let a =
+            Affine::new(Matrix3::from_diagonal(&Vector3::new(1.0, fb, ft)), Vector3::new(0.0, 0.0, z0 * (1.0 - ft)));
         let o = model.morph(&a, &MorphOptions::default())?;
         max_gap_after = o.seams_after.max_gap_closest;
     }

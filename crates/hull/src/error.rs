@@ -5,9 +5,10 @@ use cadmorph_brep::EntityRef;
 /// What can go wrong.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    /// A face is trimmed inside its surface and is not planar: its share of the enclosed
-    /// volume needs its trimming loops in the surface's parameters, which are not known.
-    #[error("face {face} is trimmed inside its {kind} surface and is not planar: cadmorph cannot integrate its enclosed volume exactly (faces must be bounded by their surface's own boundary, or planar)")]
+    /// A face trimmed inside its curved surface whose loops cannot be followed in the
+    /// surface's parameters: its curves do not lie on the surface, or they cross a
+    /// periodic surface's seam.
+    #[error("face {face} is trimmed inside its {kind} surface along curves that do not lie on it or that cross its seam: cadmorph cannot integrate its share of the enclosed volume")]
     TrimmedFace {
         /// The face.
         face: EntityRef,

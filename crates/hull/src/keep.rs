@@ -85,7 +85,8 @@ pub fn keep(
     for (i, face) in faces.iter().enumerate() {
         let inside = |p: &nalgebra::Point3<f64>| !ffd.param_weights(p).weights.is_empty();
         match base.methods[i] {
-            FaceMethod::Planar => {
+            // Trimmed faces keep their share only while the FFD leaves them alone.
+            FaceMethod::Planar | FaceMethod::Trimmed => {
                 let touched = face.surface.control_points().iter().any(inside)
                     || by_face[i].iter().any(|b| b.curve.control_points().iter().any(inside));
                 if touched {

@@ -158,7 +158,10 @@ pub fn section_shift(
         let s = SectionShift { x_aft, x_fore, a, b };
         let (f, bc) = moved(faces, bounds, &s);
         let e = enclosed_with(&f, &bc, size, &methods)?;
-        Ok(Vector2::new((e.total.moment[0] - target * e.total.volume) / (v0 * length), (e.total.volume - v_target) / v0))
+        Ok(Vector2::new(
+            (e.total.moment[0] - target * e.total.volume) / (v0 * length),
+            (e.total.volume - v_target) / v0,
+        ))
     };
     let (mut a, mut b) = (0.0, 0.0);
     let h = 1e-3;

@@ -76,6 +76,8 @@ fn chine_law_rotates_the_bottom_and_keeps_the_chines_joined() {
 fn iges_sample_takes_the_same_law() {
     let mut m = IgesModel::open(&sample("planing_hull.igs")).unwrap();
     let law = ChineLaw::new(&m, theta(), None).unwrap();
+    // The deck edges are edges between the bare wall patches and the trimmed deck plane.
+    assert_eq!(law.lines().len(), 7, "keel, two chines and the deck edge per side");
     let r = chine(&mut m, &law, 1e-7 * LENGTH).unwrap();
     eprintln!("IGES: rounds {}, seams after max gap {:.2e}", r.rounds, r.morph.seams_after.max_gap_closest);
     assert!(r.morph.seams_after.max_gap_closest <= 1e-7 * LENGTH);

@@ -20,10 +20,13 @@ const LENGTH: f64 = 10.0;
 /// edge (1.6, 2), deck at z = 2, mirrored. Shoelace area of that section.
 fn mid_section_area() -> f64 {
     let p = [(0.0, 0.0), (1.2, 0.45), (1.35, 0.55), (1.6, 2.0), (0.0, 2.0)];
-    let half: f64 = (0..p.len()).map(|i| {
-        let (a, b) = (p[i], p[(i + 1) % p.len()]);
-        a.0 * b.1 - b.0 * a.1
-    }).sum::<f64>() / 2.0;
+    let half: f64 = (0..p.len())
+        .map(|i| {
+            let (a, b) = (p[i], p[(i + 1) % p.len()]);
+            a.0 * b.1 - b.0 * a.1
+        })
+        .sum::<f64>()
+        / 2.0;
     2.0 * half
 }
 
@@ -57,7 +60,8 @@ fn lengthening_by_the_middle_body_adds_its_section_and_keeps_bow_and_stern() {
     let after = lines(&m);
     for side in [Side::Starboard, Side::Port] {
         // The stern (aft of the middle body) stays, the bow translates by the added length.
-        for (x, shift) in [(0.0, 0.0), (0.4, 0.0), (1.9, added), (4.5, added), (6.0, added), (8.0, added), (9.5, added)] {
+        for (x, shift) in [(0.0, 0.0), (0.4, 0.0), (1.9, added), (4.5, added), (6.0, added), (8.0, added), (9.5, added)]
+        {
             let a = before.section(x, side).unwrap();
             let b = after.section(x + shift, side).unwrap();
             for (p, q) in [(a.keel, b.keel), (a.inner_chine, b.inner_chine), (a.deck_edge, b.deck_edge)] {
@@ -85,7 +89,10 @@ fn beam_draft_and_block_coefficient() {
     let mut m = StepModel::open(&sample("planing_hull.stp")).unwrap();
     let cb = d0.block_coefficient * 1.003;
     let r = change_dimensions(&mut m, &DimsChange { block_coefficient: Some(cb), ..Default::default() }, 1e-7).unwrap();
-    eprintln!("Cb {} -> {} (asked {cb}), LCB {} -> {}", r.before.block_coefficient, r.after.block_coefficient, r.before.lcb, r.after.lcb);
+    eprintln!(
+        "Cb {} -> {} (asked {cb}), LCB {} -> {}",
+        r.before.block_coefficient, r.after.block_coefficient, r.before.lcb, r.after.lcb
+    );
     assert!((r.after.block_coefficient - cb).abs() <= 1e-9 * cb);
     assert!((r.after.lcb - d0.lcb).abs() <= 1e-9 * LENGTH);
     assert!((r.after.length - d0.length).abs() <= 1e-12);

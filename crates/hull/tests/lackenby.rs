@@ -59,3 +59,29 @@ fn lcb_shift_measured_by_occt() {
     assert!((v - v0).abs() / v0 <= 1e-6);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+#[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
+fn lcb_shift_of_the_iges_sample_measured_by_occt() {
+    // The IGES deck is a trimmed plane whose patch reaches beyond the hull's ends, where
+    // the shift is zero: it must still follow its moving edges (it did not, and OCCT
+    // found no solid).
+    type IgesModel = Model<cadmorph_iges::Document>;
+    let (ok, v0, x0) = occt(&sample("planing_hull.igs"));
+    assert!(ok);
+    let dir = std::env::temp_dir().join(format!("cadmorph-hull-lcb-iges-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let dx = 0.02;
+    let mut m = IgesModel::open(&sample("planing_hull.igs")).unwrap();
+    let (shift, _) = lcb_shift(m.patches(), m.bound_curves(), m.size(), dx).unwrap();
+    let o = m.morph(&shift, &MorphOptions::default()).unwrap();
+    assert_eq!(o.seams_after.edges.len(), o.seams_before.edges.len());
+    let path = dir.join("lcb.igs");
+    m.save(&path).unwrap();
+    let (ok, v, x) = occt(&path);
+    eprintln!("OCCT (IGES): valid {ok}, LCB moved {:.9} (asked {dx}), ΔV/V {:.2e}", x - x0, (v - v0).abs() / v0);
+    assert!(ok);
+    assert!(((x - x0) - dx).abs() <= 1e-4 * LENGTH, "{}", x - x0);
+    assert!((v - v0).abs() / v0 <= 1e-6);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

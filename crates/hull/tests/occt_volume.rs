@@ -111,3 +111,24 @@ fn blade_solid_volume_matches_occt() {
     assert!(e.methods.iter().all(|m| *m == FaceMethod::Natural));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+#[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
+fn curved_face_trimmed_inside_its_surface_matches_occt() {
+    // tests/occt/trimmed_solid.py: a B-spline bump trimmed by a turned square (lines that
+    // are no iso-lines of it), planes around it; made by OCCT, in STEP and IGES.
+    let dir = std::env::temp_dir().join(format!("cadmorph-hull-trimmed-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (stp, igs) = (dir.join("bump.stp"), dir.join("bump.igs"));
+    let out = Command::new(harness::python())
+        .arg(harness::root().join("tests/occt/trimmed_solid.py"))
+        .args([&stp, &igs])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    for path in [&stp, &igs] {
+        let e = compare(path, 1e-8);
+        assert_eq!(e.methods.iter().filter(|m| **m == FaceMethod::Trimmed).count(), 1, "{}", path.display());
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -86,7 +86,8 @@ fn mixed_edges(faces: &[Face], bounds: &[BoundCurve], bounded: &[bool], tol: f64
     if bounded.iter().all(|&b| b) || bounded.iter().all(|&b| !b) {
         return Vec::new();
     }
-    let key = |m: &cadmorph_nurbs::math::Matrix4<f64>| -> [u64; 16] { std::array::from_fn(|k| m.as_slice()[k].to_bits()) };
+    let key =
+        |m: &cadmorph_nurbs::math::Matrix4<f64>| -> [u64; 16] { std::array::from_fn(|k| m.as_slice()[k].to_bits()) };
     let mut groups: Vec<([u64; 16], Vec<TrimCurve>)> = Vec::new();
     let mut push = |k: [u64; 16], c: TrimCurve| match groups.iter_mut().find(|g| g.0 == k) {
         Some(g) => g.1.push(c),

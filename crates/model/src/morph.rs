@@ -337,7 +337,10 @@ impl<D: CadDocument> Model<D> {
                 // An exact face moves wherever the FFD does, also where its control
                 // points do not (a plane through a moved lattice node).
                 let exact_here = exact.as_ref().is_some_and(|(_, inside, _)| inside[k]);
-                if !exact_here && (s == face.surface || !moved_by(d, face.surface.control_points())) {
+                // A face moves when its patch does or when the curves bounding it do (an
+                // IGES trimmed plane's patch may reach beyond the part the morph moves).
+                let curves_move = || bounds.iter().any(|c| c.face == k && moved_by(d, c.curve.control_points()));
+                if !exact_here && (s == face.surface || !moved_by(d, face.surface.control_points())) && !curves_move() {
                     continue;
                 }
                 // The exact B-spline form in the file (for IGES in the entity's own
