@@ -32,6 +32,46 @@ pub fn for_each_chunk(points: &mut [Point3<f64>], before: &ChunkHook<'_>, deform
     }
 }
 
+/// The index of the first point of `points` with a non-finite coordinate: a branch-free
+/// pass (`x · 0` is 0 exactly for finite `x`, NaN otherwise) that the compiler vectorises,
+/// then a search only when it found one.
+pub fn first_non_finite(points: &[Point3<f64>]) -> Option<usize> {
+    let flat: &[f64] = bytemuck::cast_slice(points);
+    let mut acc = [0.0f64; 8];
+    let mut blocks = flat.chunks_exact(8);
+    for b in &mut blocks {
+        for k in 0..8 {
+            acc[k] += b[k] * 0.0;
+        }
+    }
+    for (k, v) in blocks.remainder().iter().enumerate() {
+        acc[k] += v * 0.0;
+    }
+    if acc.iter().all(|a| *a == 0.0) {
+        return None;
+    }
+    points.iter().position(|p| !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()))
+}
+
+/// The default [`Deformation::deform_checked`]: each chunk of
+/// [`Deformation::deform_chunks`] checked with [`first_non_finite`] just before it is
+/// deformed, the chunks holding a non-finite point left as they are. For implementations
+/// (and dispatchers) that override `deform_checked` for some cases only.
+pub fn checked_by_chunks<D: Deformation + ?Sized>(d: &D, points: &mut [Point3<f64>]) -> Result<(), usize> {
+    let first = std::sync::atomic::AtomicUsize::new(usize::MAX);
+    d.deform_chunks(points, &|start, chunk| match first_non_finite(chunk) {
+        Some(i) => {
+            first.fetch_min(start + i, std::sync::atomic::Ordering::Relaxed);
+            false
+        }
+        None => true,
+    });
+    match first.into_inner() {
+        usize::MAX => Ok(()),
+        i => Err(i),
+    }
+}
+
 /// A map φ: ℝ³ → ℝ³ applied to points (control points, mesh nodes).
 ///
 /// Building a deformation may fail (a singular RBF system, a malformed parameter file);
@@ -84,6 +124,15 @@ pub trait Deformation: Sync {
         for_each_chunk(points, before, |chunk| self.deform(chunk));
     }
 
+    /// φ applied in place, reporting the first point with a non-finite coordinate (NaN or
+    /// ±∞) as `Err(index)`. Such points are left as they are; of the others, the FFD
+    /// deforms them all (its check is fused into its kernel, so costs nothing measurable),
+    /// this default leaves the chunks of [`Deformation::deform_chunks`] that hold one
+    /// unmoved (each chunk is checked just before it is deformed) and moves the rest.
+    fn deform_checked(&self, points: &mut [Point3<f64>]) -> Result<(), usize> {
+        checked_by_chunks(self, points)
+    }
+
     /// The deformed copy of `points` (the copy twin of [`Deformation::deform`]).
     fn deformed(&self, points: &[Point3<f64>]) -> Vec<Point3<f64>> {
         let mut out = points.to_vec();
@@ -117,6 +166,9 @@ impl<D: Deformation + ?Sized> Deformation for &D {
     fn deform_chunks(&self, points: &mut [Point3<f64>], before: &ChunkHook<'_>) {
         (**self).deform_chunks(points, before)
     }
+    fn deform_checked(&self, points: &mut [Point3<f64>]) -> Result<(), usize> {
+        (**self).deform_checked(points)
+    }
     fn jacobian(&self, p: &Point3<f64>) -> Option<Matrix3<f64>> {
         (**self).jacobian(p)
     }
@@ -131,6 +183,9 @@ impl<D: Deformation + ?Sized + Send> Deformation for Box<D> {
     }
     fn deform_chunks(&self, points: &mut [Point3<f64>], before: &ChunkHook<'_>) {
         (**self).deform_chunks(points, before)
+    }
+    fn deform_checked(&self, points: &mut [Point3<f64>]) -> Result<(), usize> {
+        (**self).deform_checked(points)
     }
     fn jacobian(&self, p: &Point3<f64>) -> Option<Matrix3<f64>> {
         (**self).jacobian(p)

@@ -359,14 +359,22 @@ impl Ffd {
     /// values and the lattice sum, one SIMD vector of points at a time inside one `pulp`
     /// dispatch. On x86-64 with AVX2/FMA the gathering is vectorised too ([`v3`]); elsewhere
     /// it is a branch-free scalar loop.
-    fn deform_serial(&self, points: &mut [Point3<f64>], power: Option<&PowerForm>) {
+    /// Deforms `points` on this thread; returns the index of the first point with a
+    /// non-finite coordinate (such points are outside every box and stay as they are).
+    /// The check is fused into the gathering of the points inside the box: a group of
+    /// points all inside is finite, so only groups with a point outside are looked at.
+    fn deform_serial(&self, points: &mut [Point3<f64>], power: Option<&PowerForm>) -> Option<usize> {
         let [l, m, n] = self.mu.shape;
         if l.max(m).max(n) > 33 {
             // Beyond the binomial table: point by point.
-            for p in points {
+            let mut bad = None;
+            for (i, p) in points.iter_mut().enumerate() {
+                if bad.is_none() && !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
+                    bad = Some(i);
+                }
                 *p = self.deform_point(p);
             }
-            return;
+            return bad;
         }
         #[cfg(target_arch = "x86_64")]
         if let Some(simd) = pulp::x86::V3::try_new() {
@@ -567,16 +575,17 @@ struct DeformSimd<'a> {
 }
 
 impl pulp::WithSimd for DeformSimd<'_> {
-    type Output = ();
+    type Output = Option<usize>;
 
     #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, simd: S) {
+    fn with_simd<S: pulp::Simd>(self, simd: S) -> Option<usize> {
         let DeformSimd { ffd, power, points } = self;
+        let mut bad = usize::MAX;
         let w = S::F64_LANES;
         assert!(w <= MAX_W && SUB % w == 0, "unsupported SIMD width {w}");
         let (o, inv, t) = (ffd.box_origin, ffd.inverse, ffd.face_tol);
         let mut pass = Pass::new(simd.splat_f64s(0.0));
-        for sub in points.chunks_mut(SUB) {
+        for (k, sub) in points.chunks_mut(SUB).enumerate() {
             // Gather the points inside the (tolerance-widened) box.
             let mut count = 0;
             for (q, p) in sub.iter().enumerate() {
@@ -595,12 +604,16 @@ impl pulp::WithSimd for DeformSimd<'_> {
                 }
                 pass.idx[count] = q as u64;
                 count += ok as usize;
+                if !ok && bad == usize::MAX && !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
+                    bad = k * SUB + q;
+                }
             }
             if count > 0 {
                 displace_gathered(simd, ffd, power, &mut pass, count);
                 scatter(&pass, count, sub);
             }
         }
+        (bad != usize::MAX).then_some(bad)
     }
 }
 
@@ -650,11 +663,12 @@ mod v3 {
     }
 
     impl pulp::WithSimd for Deform<'_> {
-        type Output = ();
+        type Output = Option<usize>;
 
         #[inline(always)]
-        fn with_simd<S: Simd>(self, _: S) {
+        fn with_simd<S: Simd>(self, _: S) -> Option<usize> {
             let Deform { simd, ffd, power, points } = self;
+            let mut bad = usize::MAX;
             let (o, inv, t) = (ffd.box_origin, ffd.inverse, ffd.face_tol);
             let mut b = BoxV {
                 origin: [simd.splat_f64x4(o.x), simd.splat_f64x4(o.y), simd.splat_f64x4(o.z)],
@@ -668,7 +682,7 @@ mod v3 {
                 }
             }
             let mut pass = Pass::new(simd.splat_f64x4(0.0));
-            for sub in points.chunks_mut(SUB) {
+            for (k, sub) in points.chunks_mut(SUB).enumerate() {
                 let mut count = 0;
                 // Four points are twelve coordinates: three vector loads, then a 3 × 4
                 // transpose in six shuffles (Point3<f64> is three packed f64).
@@ -679,7 +693,11 @@ mod v3 {
                         pulp::cast(v)
                     };
                     let c = transpose(simd, load(0), load(1), load(2));
-                    count += gather(simd, &b, &mut pass, count, 4 * g, c);
+                    let (n, lane) = gather(simd, &b, &mut pass, count, 4 * g, c, 4);
+                    count += n;
+                    if let Some(l) = lane {
+                        bad = bad.min(k * SUB + 4 * g + l);
+                    }
                 }
                 let rest = &sub[sub.len() / 4 * 4..];
                 if !rest.is_empty() {
@@ -690,13 +708,19 @@ mod v3 {
                         c[1][l] = p.y;
                         c[2][l] = p.z;
                     }
-                    count += gather(simd, &b, &mut pass, count, sub.len() - rest.len(), c.map(pulp::cast));
+                    let first = sub.len() - rest.len();
+                    let (n, lane) = gather(simd, &b, &mut pass, count, first, c.map(pulp::cast), rest.len());
+                    count += n;
+                    if let Some(l) = lane {
+                        bad = bad.min(k * SUB + first + l);
+                    }
                 }
                 if count > 0 {
                     displace_gathered(simd, ffd, power, &mut pass, count);
                     scatter(&pass, count, sub);
                 }
             }
+            (bad != usize::MAX).then_some(bad)
         }
     }
 
@@ -714,11 +738,21 @@ mod v3 {
         ]
     }
 
-    /// Map four points (`c`, lane = point) to the unit box and append the ones inside to
-    /// `pass` at `count`, their indices in the pass starting at `first`; returns how many
-    /// were inside.
+    /// Map four points (`c`, lane = point; the first `valid` lanes are points) to the unit
+    /// box and append the ones inside to `pass` at `count`, their indices in the pass
+    /// starting at `first`; returns how many were inside, and the first lane holding a
+    /// non-finite coordinate (looked for only when a lane is outside: NaN and ±∞ never
+    /// compare inside).
     #[inline(always)]
-    fn gather(simd: V3, b: &BoxV, pass: &mut Pass<f64x4>, count: usize, first: usize, c: [f64x4; 3]) -> usize {
+    fn gather(
+        simd: V3,
+        b: &BoxV,
+        pass: &mut Pass<f64x4>,
+        count: usize,
+        first: usize,
+        c: [f64x4; 3],
+        valid: usize,
+    ) -> (usize, Option<usize>) {
         let e =
             [simd.sub_f64x4(c[0], b.origin[0]), simd.sub_f64x4(c[1], b.origin[1]), simd.sub_f64x4(c[2], b.origin[2])];
         let mut u = [simd.splat_f64x4(0.0); 3];
@@ -731,8 +765,22 @@ mod v3 {
             inside = simd.and_m64x4(inside, ok);
         }
         let bits = simd.avx._mm256_movemask_pd(pulp::cast(inside)) as usize;
+        let lanes = (1usize << valid) - 1;
+        let mut bad = None;
+        if bits != lanes {
+            // x − x is 0 for finite x, NaN for NaN and ±∞.
+            let mut finite = simd.splat_m64x4(pulp::m64::new(true));
+            for r in 0..3 {
+                let z = simd.sub_f64x4(c[r], c[r]);
+                finite = simd.and_m64x4(finite, simd.equal_f64s(z, simd.splat_f64x4(0.0)));
+            }
+            let ok = simd.avx._mm256_movemask_pd(pulp::cast(finite)) as usize & lanes;
+            if ok != lanes {
+                bad = Some((!ok & lanes).trailing_zeros() as usize);
+            }
+        }
         if bits == 0 {
-            return 0;
+            return (0, bad);
         }
         let perm: pulp::u32x8 = pulp::cast(COMPRESS[bits]);
         let (zero, one) = (simd.splat_f64x4(0.0), simd.splat_f64x4(1.0));
@@ -745,7 +793,7 @@ mod v3 {
         let lanes = u64x4(first as u64, first as u64 + 1, first as u64 + 2, first as u64 + 3);
         let idx: [u64; 4] = pulp::cast(simd.avx2._mm256_permutevar8x32_epi32(pulp::cast(lanes), pulp::cast(perm)));
         pass.idx[count..count + 4].copy_from_slice(&idx);
-        bits.count_ones() as usize
+        (bits.count_ones() as usize, bad)
     }
 }
 
@@ -1030,17 +1078,31 @@ impl Deformation for Ffd {
     }
 
     fn deform(&self, points: &mut [Point3<f64>]) {
-        if points.len() >= PARALLEL_MIN_POINTS {
-            let power = PowerForm::new(&self.mu);
-            points.par_chunks_mut(PARALLEL_CHUNK).for_each(|c| self.deform_serial(c, power.as_ref()));
-        } else {
-            self.deform_serial(points, PowerForm::new(&self.mu).as_ref());
-        }
+        // The check is fused into the kernel (see `deform_serial`): ignoring it costs nothing.
+        let _ = self.deform_checked(points);
     }
 
     fn deform_chunks(&self, points: &mut [Point3<f64>], before: &ChunkHook<'_>) {
         let power = PowerForm::new(&self.mu);
-        for_each_chunk(points, before, |c| self.deform_serial(c, power.as_ref()));
+        for_each_chunk(points, before, |c| {
+            self.deform_serial(c, power.as_ref());
+        });
+    }
+
+    /// Every finite point deformed; the points with a non-finite coordinate stay as they
+    /// are (they lie outside every box), the first is reported.
+    fn deform_checked(&self, points: &mut [Point3<f64>]) -> Result<(), usize> {
+        let power = PowerForm::new(&self.mu);
+        let bad = if points.len() >= PARALLEL_MIN_POINTS {
+            points
+                .par_chunks_mut(PARALLEL_CHUNK)
+                .enumerate()
+                .filter_map(|(i, c)| self.deform_serial(c, power.as_ref()).map(|k| i * PARALLEL_CHUNK + k))
+                .min()
+        } else {
+            self.deform_serial(points, power.as_ref())
+        };
+        bad.map_or(Ok(()), Err)
     }
 
     /// `I + R diag(ℓ) (Σ μ ⊗ ∇ᵤb) diag(1/ℓ) Rᵀ` inside the closed box (one-sided on its
@@ -1384,11 +1446,13 @@ mod tests {
                 let mut out = pts.clone();
                 let points = &mut out[..];
                 let op = DeformSimd { ffd: &ffd, power: power.as_ref(), points };
-                match which {
+                // The three paths must agree on the points and on the first non-finite one.
+                let bad = match which {
                     0 => op.with_simd(pulp::Scalar::new()),
                     1 => pulp::Arch::new().dispatch(op),
                     _ => ffd.deform_serial(&mut out, power.as_ref()),
-                }
+                };
+                assert_eq!(bad, None);
                 out
             };
             let (scalar, portable, best) = (run(0), run(1), run(2));
@@ -1438,5 +1502,62 @@ mod tests {
         assert!(matches!(e, Error::InvalidParameter { name: "n control points", .. }));
         let e = Ffd::try_new([2, 2, 2], Point3::origin(), Vector3::new(1.0, 0.0, 1.0), Vector3::zeros()).unwrap_err();
         assert!(matches!(e, Error::InvalidParameter { name: "box length", .. }));
+    }
+}
+
+#[cfg(test)]
+mod checked_tests {
+    use super::*;
+    use pulp::WithSimd;
+
+    /// The fused check finds the first non-finite point on every path (AVX2 groups of
+    /// four, the short last group, the portable gather, point by point for big lattices),
+    /// leaves those points as they are and deforms every other one as `deform_point` does.
+    #[test]
+    fn deform_checked_reports_the_first_non_finite_point_and_moves_the_rest() {
+        let mut ffd = Ffd::unit([3, 3, 3]);
+        for (i, m) in ffd.mu_mut().x.iter_mut().enumerate() {
+            *m = 0.01 * (i as f64).sin();
+        }
+        let n = 5003;
+        let pts: Vec<Point3<f64>> = (0..n)
+            .map(|i| {
+                let t = i as f64;
+                Point3::new(
+                    -0.1 + 1.2 * (t * 0.37).fract(),
+                    -0.1 + 1.2 * (t * 0.61).fract(),
+                    -0.1 + 1.2 * (t * 0.83).fract(),
+                )
+            })
+            .collect();
+        for (bad_at, value) in [(3001usize, f64::NAN), (5002, f64::INFINITY), (7, f64::NEG_INFINITY), (4999, f64::NAN)]
+        {
+            let mut p = pts.clone();
+            p[bad_at].y = value;
+            p[bad_at].z = value;
+            if bad_at + 1500 < n {
+                p[bad_at + 1500].x = f64::NAN; // a later one is not the one named
+            }
+            let expect: Vec<Point3<f64>> = p.iter().map(|q| ffd.deform_point(q)).collect();
+            let mut got = p.clone();
+            assert_eq!(ffd.deform_checked(&mut got), Err(bad_at));
+            for (k, (a, b)) in got.iter().zip(&expect).enumerate() {
+                let same = (a - b).norm() <= 1e-14
+                    || (a.coords.iter().zip(b.coords.iter()).all(|(x, y)| x.to_bits() == y.to_bits()));
+                assert!(same, "point {k}: {a:?} vs {b:?}");
+            }
+            // Small slices run on one thread, through each SIMD path.
+            let mut one = p[bad_at.saturating_sub(3)..(bad_at + 3).min(n)].to_vec();
+            assert_eq!(ffd.deform_checked(&mut one), Err(bad_at - bad_at.saturating_sub(3)));
+            let power = PowerForm::new(&ffd.mu);
+            let mut portable = p.clone();
+            let r = pulp::Arch::new().dispatch(DeformSimd { ffd: &ffd, power: power.as_ref(), points: &mut portable });
+            assert_eq!(r, Some(bad_at));
+            let mut scalar = p.clone();
+            let r = DeformSimd { ffd: &ffd, power: power.as_ref(), points: &mut scalar }.with_simd(pulp::Scalar::new());
+            assert_eq!(r, Some(bad_at));
+        }
+        let mut clean = pts.clone();
+        assert_eq!(ffd.deform_checked(&mut clean), Ok(()));
     }
 }

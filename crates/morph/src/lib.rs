@@ -69,7 +69,8 @@ pub mod rbf;
 
 pub use affine::Affine;
 pub use deformation::{
-    for_each_chunk, ChunkHook, Deformation, LinearInParameters, ParamWeights, Then, PARALLEL_CHUNK, PARALLEL_MIN_POINTS,
+    checked_by_chunks, first_non_finite, for_each_chunk, ChunkHook, Deformation, LinearInParameters, ParamWeights,
+    Then, PARALLEL_CHUNK, PARALLEL_MIN_POINTS,
 };
 pub use error::{Error, Result};
 pub use ffd::{BoundFfd, Displacements, Ffd};

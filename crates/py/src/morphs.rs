@@ -9,7 +9,8 @@ use cadmorph::morph::ffd::FACE_TOL;
 use cadmorph::morph::math::{Matrix3, Point3, Vector3};
 use cadmorph::morph::rbf::Kernel;
 use cadmorph::morph::{
-    for_each_chunk, Affine, ChunkHook, Deformation, Ffd, Idw, IdwParameters, IdwVariant, Parameters, Rbf, RbfParameters,
+    checked_by_chunks, for_each_chunk, Affine, ChunkHook, Deformation, Ffd, Idw, IdwParameters, IdwVariant, Parameters,
+    Rbf, RbfParameters,
 };
 use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray3, PyUntypedArrayMethods};
@@ -18,8 +19,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
 use crate::arrays::{
-    as_points, as_points_mut, first_non_finite, first_non_finite_index, non_finite_err, points_to_array, points_vec,
-    points_view, three, to_array,
+    as_points, as_points_mut, first_non_finite, non_finite_err, points_to_array, points_vec, points_view, three,
+    to_array,
 };
 use crate::errors::morph_err;
 
@@ -124,6 +125,14 @@ impl Deformation for Morph {
             Morph::Chain(v) => v.iter().for_each(|d| d.deform(points)),
             // One call with the whole array, on the calling thread.
             Morph::Function(f) => f.call(points),
+        }
+    }
+
+    fn deform_checked(&self, points: &mut [Point3<f64>]) -> Result<(), usize> {
+        match self {
+            // The FFD's check is fused into its kernel.
+            Morph::Ffd(d) => d.deform_checked(points),
+            _ => checked_by_chunks(self, points),
         }
     }
 
@@ -259,10 +268,10 @@ pub(crate) fn apply<'py>(
     }
 }
 
-/// `morph` applied to `flat` in place, each chunk checked for non-finite values just before
-/// it is deformed (in parallel, through [`Deformation::deform_chunks`]; on this thread when
-/// the morph calls Python, after checking everything). `Err` is the first non-finite value;
-/// chunks holding one are not deformed.
+/// `morph` applied to `flat` in place with the check for non-finite values of
+/// [`Deformation::deform_checked`] (fused into the FFD's kernel; chunk by chunk just before
+/// each is deformed for the others; on this thread when the morph calls Python, after
+/// checking everything). `Err` is the first non-finite value, whose point is left as it was.
 fn check_deform_in_place(morph: &Morph, flat: &mut [f64], sequential: bool) -> Result<(), (usize, usize)> {
     if sequential {
         if let Some(at) = first_non_finite(flat) {
@@ -271,21 +280,11 @@ fn check_deform_in_place(morph: &Morph, flat: &mut [f64], sequential: bool) -> R
         morph.deform(as_points_mut(flat));
         return Ok(());
     }
-    let first = AtomicUsize::new(usize::MAX);
-    morph.deform_chunks(
-        as_points_mut(flat),
-        &|start, chunk| match first_non_finite_index(bytemuck::cast_slice(chunk)) {
-            Some(i) => {
-                first.fetch_min(start * 3 + i, Ordering::Relaxed);
-                false
-            }
-            None => true,
-        },
-    );
-    match first.into_inner() {
-        usize::MAX => Ok(()),
-        i => Err((i / 3, i % 3)),
-    }
+    morph.deform_checked(as_points_mut(flat)).map_err(|i| {
+        // The point is left as it was: name its first non-finite coordinate.
+        let k = (0..3).find(|&k| !flat[3 * i + k].is_finite()).unwrap_or(0);
+        (i, k)
+    })
 }
 
 /// A new buffer holding `morph(src)`: copied, checked and deformed chunk by chunk in
@@ -305,9 +304,9 @@ fn copy_check_deform(morph: &Morph, src: &[f64], sequential: bool) -> Result<Vec
     let first = AtomicUsize::new(usize::MAX);
     morph.deform_chunks(as_points_mut(&mut dst), &|start, chunk| {
         let s = &src[start * 3..start * 3 + chunk.len() * 3];
-        match first_non_finite_index(s) {
-            Some(i) => {
-                first.fetch_min(start * 3 + i, Ordering::Relaxed);
+        match first_non_finite(s) {
+            Some((i, k)) => {
+                first.fetch_min((start + i) * 3 + k, Ordering::Relaxed);
                 false
             }
             None => {
@@ -573,9 +572,10 @@ impl PyFfd {
     /// is written there (`out=points` morphs in place) and `out` is returned.
     ///
     /// A NaN or infinite coordinate raises `ValueError` naming it. The new array or another
-    /// `out` is then not returned; in place (`out=points`) the check runs chunk by chunk as
-    /// the morph goes (no second pass over memory), so the finite points of other chunks
-    /// may have moved when the error is raised.
+    /// `out` is then not returned; in place (`out=points`) the check is part of the morph
+    /// (no second pass over memory): the non-finite points stay as they were, and the FFD
+    /// has moved every finite point when the error is raised (the other morphs, checked
+    /// in chunks of 2048 points, leave the chunks holding a bad value unmoved).
     #[pyo3(signature = (points, out = None))]
     fn deform<'py>(&self, points: &Bound<'py, PyAny>, out: Option<&Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyAny>> {
         apply(&Morph::Ffd(self.inner.clone()), points, out)
