@@ -129,7 +129,7 @@ fn main() {
             morph.deform(&mut copy);
             best = best.min(t.elapsed().as_secs_f64());
         }
-        extra = format!(" deform_min_s={best:.4} repeats={}", repeat + 1);
+        extra = format!(" deform_min_s={best:.6} repeats={}", repeat + 1);
     }
     drop(morph);
     write_npy_points(&dir.join("out_cadmorph.npy"), &points);

@@ -684,6 +684,7 @@ mod v3 {
             let mut pass = Pass::new(simd.splat_f64x4(0.0));
             for (k, sub) in points.chunks_mut(SUB).enumerate() {
                 let mut count = 0;
+                let mut finite = simd.splat_f64x4(0.0);
                 // Four points are twelve coordinates: three vector loads, then a 3 × 4
                 // transpose in six shuffles (Point3<f64> is three packed f64).
                 let flat: &[f64] = bytemuck::cast_slice(sub);
@@ -693,11 +694,7 @@ mod v3 {
                         pulp::cast(v)
                     };
                     let c = transpose(simd, load(0), load(1), load(2));
-                    let (n, lane) = gather(simd, &b, &mut pass, count, 4 * g, c, 4);
-                    count += n;
-                    if let Some(l) = lane {
-                        bad = bad.min(k * SUB + 4 * g + l);
-                    }
+                    count += gather(simd, &b, &mut pass, count, 4 * g, c, &mut finite);
                 }
                 let rest = &sub[sub.len() / 4 * 4..];
                 if !rest.is_empty() {
@@ -708,11 +705,17 @@ mod v3 {
                         c[1][l] = p.y;
                         c[2][l] = p.z;
                     }
+                    // (Their x · 0 is NaN too: the scan below reads only the real points.)
                     let first = sub.len() - rest.len();
-                    let (n, lane) = gather(simd, &b, &mut pass, count, first, c.map(pulp::cast), rest.len());
-                    count += n;
-                    if let Some(l) = lane {
-                        bad = bad.min(k * SUB + first + l);
+                    count += gather(simd, &b, &mut pass, count, first, c.map(pulp::cast), &mut finite);
+                }
+                if bad == usize::MAX {
+                    let f: [f64; 4] = pulp::cast(finite);
+                    if f.iter().any(|v| *v != 0.0) {
+                        if let Some(q) = sub.iter().position(|p| !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite())) {
+                            bad = k * SUB + q;
+                        }
+                        finite = simd.splat_f64x4(0.0);
                     }
                 }
                 if count > 0 {
@@ -738,11 +741,10 @@ mod v3 {
         ]
     }
 
-    /// Map four points (`c`, lane = point; the first `valid` lanes are points) to the unit
-    /// box and append the ones inside to `pass` at `count`, their indices in the pass
-    /// starting at `first`; returns how many were inside, and the first lane holding a
-    /// non-finite coordinate (looked for only when a lane is outside: NaN and ±∞ never
-    /// compare inside).
+    /// Map four points (`c`, lane = point) to the unit box and append the ones inside to
+    /// `pass` at `count`, their indices in the pass starting at `first`; returns how many
+    /// were inside. `finite` stays zero while every coordinate seen is finite (NaN and ±∞
+    /// never compare inside, so such points are left as they are).
     #[inline(always)]
     fn gather(
         simd: V3,
@@ -751,8 +753,8 @@ mod v3 {
         count: usize,
         first: usize,
         c: [f64x4; 3],
-        valid: usize,
-    ) -> (usize, Option<usize>) {
+        finite: &mut f64x4,
+    ) -> usize {
         let e =
             [simd.sub_f64x4(c[0], b.origin[0]), simd.sub_f64x4(c[1], b.origin[1]), simd.sub_f64x4(c[2], b.origin[2])];
         let mut u = [simd.splat_f64x4(0.0); 3];
@@ -765,22 +767,13 @@ mod v3 {
             inside = simd.and_m64x4(inside, ok);
         }
         let bits = simd.avx._mm256_movemask_pd(pulp::cast(inside)) as usize;
-        let lanes = (1usize << valid) - 1;
-        let mut bad = None;
-        if bits != lanes {
-            // x − x is 0 for finite x, NaN for NaN and ±∞.
-            let mut finite = simd.splat_m64x4(pulp::m64::new(true));
-            for r in 0..3 {
-                let z = simd.sub_f64x4(c[r], c[r]);
-                finite = simd.and_m64x4(finite, simd.equal_f64s(z, simd.splat_f64x4(0.0)));
-            }
-            let ok = simd.avx._mm256_movemask_pd(pulp::cast(finite)) as usize & lanes;
-            if ok != lanes {
-                bad = Some((!ok & lanes).trailing_zeros() as usize);
-            }
+        // x · 0 is ±0 for finite x, NaN for NaN and ±∞: one fused multiply-add per
+        // coordinate vector into the caller's accumulator, looked at once per pass.
+        for r in 0..3 {
+            *finite = simd.mul_add_f64x4(c[r], simd.splat_f64x4(0.0), *finite);
         }
         if bits == 0 {
-            return (0, bad);
+            return 0;
         }
         let perm: pulp::u32x8 = pulp::cast(COMPRESS[bits]);
         let (zero, one) = (simd.splat_f64x4(0.0), simd.splat_f64x4(1.0));
@@ -793,7 +786,7 @@ mod v3 {
         let lanes = u64x4(first as u64, first as u64 + 1, first as u64 + 2, first as u64 + 3);
         let idx: [u64; 4] = pulp::cast(simd.avx2._mm256_permutevar8x32_epi32(pulp::cast(lanes), pulp::cast(perm)));
         pass.idx[count..count + 4].copy_from_slice(&idx);
-        (bits.count_ones() as usize, bad)
+        bits.count_ones() as usize
     }
 }
 
