@@ -147,6 +147,7 @@ pub fn for_morph(
     ffd: Option<&Path>,
     gap_tol: Option<f64>,
     angle_tol: f64,
+    refine_tolerances: Option<(f64, f64)>,
     morph_seconds: f64,
     html_path: &Path,
 ) -> Result<(Files, f64)> {
@@ -168,6 +169,7 @@ pub fn for_morph(
         refinement: outcome.refinement.clone(),
         control_points: Some((outcome.control_points_before, outcome.control_points_after)),
         timings: vec![("morph (read, refine, morph, write)".into(), morph_seconds)],
+        refine_tolerances,
     };
     stage(scene, &info, html_path, &Extras::default(), started)
 }
@@ -205,6 +207,7 @@ pub fn run(a: Args) -> Result<()> {
         refinement: None,
         control_points,
         timings: vec![("read".into(), read), ("measure seams".into(), seams)],
+        refine_tolerances: None,
     };
     let extras = Extras { glb: a.glb.as_deref(), vtu_dir: a.vtu_dir.as_deref(), png_dir: a.png_dir.as_deref() };
     let (files, seconds) = stage(scene, &info, &a.output, &extras, started)?;
