@@ -62,7 +62,10 @@ fn blade_plots_write_every_law_and_the_sections() {
     let labels = svg.lines().filter(|l| l.trim().starts_with("r = ")).count();
     assert!(labels >= 2, "one legend entry per section, found {labels}");
     let (_, _, rgb) = cadmorph_report::chart::decode_png(&std::fs::read(plots.join("profiles.png")).unwrap()).unwrap();
-    assert!(rgb.chunks(3).filter(|c| c[0] < 60 && c[1] > 100 && c[2] > 150).count() > 200, "the first section drawn");
+    // The outlines in colour (the sections of this table coincide: the last one's
+    // colour covers the others), over white, grey grid lines and black text.
+    let coloured = rgb.chunks(3).filter(|c| c.iter().max().unwrap() - c.iter().min().unwrap() > 60).count();
+    assert!(coloured > 1000, "sections drawn: {coloured} coloured pixels");
 }
 
 #[test]

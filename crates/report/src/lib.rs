@@ -36,8 +36,9 @@
 //! known defect). The page exposes `window.cadmorph.project(p)` (the pixel of a model
 //! point) so that tests can check what is drawn where.
 //!
-//! Faces are drawn on a fixed parameter grid ([`grid`]); trimming curves are not
-//! applied (a trimmed face shows its parameter box).
+//! Faces are drawn on a fixed parameter grid ([`grid`]); a trimmed face keeps only the
+//! grid triangles inside its trim ([`trim`]: its bound curves projected onto its
+//! surface, and a point-in-face test on them).
 
 mod error;
 
@@ -58,6 +59,7 @@ pub mod raster;
 pub mod render;
 pub mod scene;
 pub mod seamline;
+pub mod trim;
 pub mod vtk;
 
 pub use error::{Error, Result};
