@@ -112,7 +112,7 @@ impl Trim {
             for t in ts {
                 let p = b.curve.eval(t);
                 let pr = s.project_near(&p, near, 1e-9 * size, 1e-4 * size);
-                if !(pr.distance_sq.sqrt() <= 1e-3 * size) {
+                if pr.distance_sq.is_nan() || pr.distance_sq.sqrt() > 1e-3 * size {
                     return None;
                 }
                 near = Some((pr.u, pr.v));
