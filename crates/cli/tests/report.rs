@@ -114,6 +114,14 @@ fn morph_writes_its_report_with_the_output() {
     let want: Vec<String> = per_round.iter().map(|x| x["control_points"].to_string()).collect();
     assert_eq!(counts, want);
     assert!(page.contains("id=\"growth-plot\"><svg"));
+    // `cadmorph report --after OUT --morph-json` shows the same growth.
+    let js = d.join("m.json");
+    std::fs::write(&js, serde_json::to_string(&json).unwrap()).unwrap();
+    let html2 = d.join("r.html");
+    ok(&cadmorph(&["report", "samples/hull3.igs", "--after", s(&out), "--morph-json", s(&js), "-o", s(&html2)]));
+    let page2 = std::fs::read_to_string(&html2).unwrap();
+    let table2 = &page2[page2.find("<table class=\"growth\">").expect("growth table")..];
+    assert_eq!(&table2[..table2.find("</table>").unwrap()], table);
     // Both states, the refinement and the lattice.
     assert!(page.contains("Seams before") && page.contains("Seams after") && page.contains("Refinement"));
     assert!(page.contains("id=\"layer-lattice-moved\""));

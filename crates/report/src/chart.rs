@@ -162,7 +162,8 @@ pub(crate) fn check_size(width: u32, height: u32) -> Result<()> {
 
 /// The frame every plot uses: optional caption (18 px), `margin`, label areas of
 /// `x_area` and `y_area` pixels, axes over `xr × yr`, and the mesh with axis names and
-/// six labels per axis (`y_format` for the y labels when given).
+/// `labels` labels per axis (`x_labels` on x when given; `x_format`, `y_format` for
+/// the labels when given).
 pub(crate) struct Frame<'a> {
     pub caption: Option<&'a str>,
     pub margin: u32,
@@ -171,12 +172,25 @@ pub(crate) struct Frame<'a> {
     pub x_desc: &'a str,
     pub y_desc: &'a str,
     pub labels: usize,
+    pub x_labels: Option<usize>,
+    pub x_format: Option<&'a dyn Fn(&f64) -> String>,
     pub y_format: Option<&'a dyn Fn(&f64) -> String>,
 }
 
 impl Default for Frame<'_> {
     fn default() -> Self {
-        Self { caption: None, margin: 10, x_area: 36, y_area: 64, x_desc: "", y_desc: "", labels: 6, y_format: None }
+        Self {
+            caption: None,
+            margin: 10,
+            x_area: 36,
+            y_area: 64,
+            x_desc: "",
+            y_desc: "",
+            labels: 6,
+            x_labels: None,
+            x_format: None,
+            y_format: None,
+        }
     }
 }
 
@@ -202,7 +216,13 @@ impl Frame<'_> {
             .build_cartesian_2d(xr, yr)
             .map_err(drawn)?;
         let mut mesh = chart.configure_mesh();
-        mesh.x_desc(self.x_desc).y_desc(self.y_desc).x_labels(self.labels).y_labels(self.labels);
+        mesh.x_desc(self.x_desc)
+            .y_desc(self.y_desc)
+            .x_labels(self.x_labels.unwrap_or(self.labels))
+            .y_labels(self.labels);
+        if let Some(f) = self.x_format {
+            mesh.x_label_formatter(f);
+        }
         if let Some(f) = self.y_format {
             mesh.y_label_formatter(f);
         }

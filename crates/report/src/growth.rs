@@ -43,11 +43,15 @@ impl Figure for Growth<'_> {
         let yr = padded("refinement growth", points.iter().map(|p| p.1)).map_err(|e| e.to_string())?;
         let yr = yr.start.min(0.0)..yr.end;
         let int = |v: &f64| format!("{v:.0}");
+        // Whole rounds only on the round axis.
+        let round = |v: &f64| if (v - v.round()).abs() < 1e-9 { format!("{v:.0}") } else { String::new() };
         let frame = Frame {
             caption: Some("control points per round"),
             x_desc: "round",
             y_desc: "control points",
             y_area: 72,
+            x_labels: Some((self.rounds.len() + 1).clamp(2, 8)),
+            x_format: Some(&round),
             y_format: Some(&int),
             ..Default::default()
         };
@@ -61,13 +65,15 @@ impl Figure for Growth<'_> {
         let tols = self.tol.map(|(g, a)| [log(g), log(a)]);
         let all = gap.iter().chain(&angle).map(|p| p.1).chain(tols.into_iter().flatten());
         let lr = padded("refinement errors", all).map_err(|e| e.to_string())?;
-        let exp = |v: &f64| format!("1e{v:.1}");
+        let exp = |v: &f64| format!("{:.0e}", 10f64.powf(*v));
         let gap_label = format!("gap growth ({})", self.unit);
         let frame = Frame {
             caption: Some("largest growth per round"),
             x_desc: "round",
-            y_desc: "log10 of the growth",
+            y_desc: "growth (log scale)",
             y_area: 72,
+            x_labels: Some((self.rounds.len() + 1).clamp(2, 8)),
+            x_format: Some(&round),
             y_format: Some(&exp),
             ..Default::default()
         };

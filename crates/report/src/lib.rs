@@ -16,7 +16,8 @@
 //!   lattice for ParaView.
 //! - [`campaign`]: the index page of a campaign: a thumbnail per variant, the results
 //!   table (sortable), failed and out-of-tolerance variants marked, and scatter plots of
-//!   each parameter against each result ([`plots`], SVG through the `plotters` crate).
+//!   each parameter against each result ([`plots`], inline SVG through the `plotters`
+//!   crate; PNG too).
 //! - Blade and mesh plots (SVG or PNG, `plotters`, one drawing code for both through
 //!   [`chart`]): [`radial`] the radial laws of a blade, original and deformed, with
 //!   their control points (the BladeX paper's Figure 7); [`profiles`] the 2D sections;

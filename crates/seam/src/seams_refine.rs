@@ -3,7 +3,7 @@
 
 use cadmorph_morph::Deformation;
 use cadmorph_nurbs::{NurbsSurface, Side, Surface};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::measure::side_uv;
 use crate::refine::{deformed, exact_normal, short_directions, well_defined_normal};
@@ -30,8 +30,9 @@ impl SeamRefineOptions {
     }
 }
 
-/// What [`refine_seams`] did.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+/// What [`refine_seams`] did. It reads back from its JSON form (`morph --json`'s
+/// `refinement`); JSON written before `per_round` existed reads with no rounds.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SeamRefinement {
     /// Control points of all patches before.
     pub control_points_before: usize,
@@ -72,7 +73,7 @@ pub struct SeamRefinement {
 
 /// One round of [`refine_edges`]: the patches' size and the errors of their morph as
 /// that round measured them (the same samples as the final report's numbers).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct RefineRound {
     /// The round: 0 for the input, `k` after `k` knot insertions.
     pub round: usize,
