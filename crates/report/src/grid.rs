@@ -7,8 +7,8 @@
 //! places, and a picture of the two differs only where the surface moved. The grid has
 //! `4 × (poles − 1)` intervals per direction of the *original* face, between 16 and 96.
 //!
-//! A trimmed face is drawn trimmed ([`trimmed_face_mesh`]): the grid of its parameter
-//! box, less the triangles whose centroid lies outside the face ([`Trim`]: outside the
+//! A trimmed face is drawn trimmed ([`trimmed_face_mesh`]): the grid of the box its
+//! bound curves span, less the triangles whose centroid lies outside the face ([`Trim`]: outside the
 //! outer loop or inside a hole). The grid, and so the vertices, stay those of the whole
 //! box; only triangles are left out, so the drawn area converges to the face's area as
 //! the grid is refined, with an error of the order of the boundary's length times a
@@ -59,9 +59,13 @@ pub fn parameter_box(face: &Face) -> ((f64, f64), (f64, f64)) {
 }
 
 /// Tessellates `face` on an `nu × nv` grid of its parameter box.
-pub fn face_mesh(face: &Face, (nu, nv): (usize, usize)) -> FaceMesh {
+pub fn face_mesh(face: &Face, grid: (usize, usize)) -> FaceMesh {
+    face_mesh_over(face, grid, parameter_box(face))
+}
+
+/// Tessellates `face` on an `nu × nv` grid of the parameter box `((u0, u1), (v0, v1))`.
+fn face_mesh_over(face: &Face, (nu, nv): (usize, usize), ((u0, u1), (v0, v1)): ((f64, f64), (f64, f64))) -> FaceMesh {
     let (nu, nv) = (nu.max(2), nv.max(2));
-    let ((u0, u1), (v0, v1)) = parameter_box(face);
     let s = &face.surface;
     let flip = if face.reversed { -1.0 } else { 1.0 };
     let mut positions = Vec::with_capacity(nu * nv);
@@ -93,12 +97,14 @@ pub fn face_mesh(face: &Face, (nu, nv): (usize, usize)) -> FaceMesh {
     FaceMesh { positions, normals, nu, nv, triangles }
 }
 
-/// [`face_mesh`] less the triangles whose centroid (in the surface's parameters) lies
-/// outside `trim`. All vertices of the grid are kept (so the same grid indices hold for
-/// any trim); when the trim would leave no triangle, the whole box is drawn.
+/// `face` on the grid of the box its trim spans ([`Trim::parameter_box`]), less the
+/// triangles whose centroid (in the surface's parameters) lies outside `trim`. All
+/// vertices of the grid are kept (so the same grid indices hold for any trim); when the
+/// trim would leave no triangle, the whole box is drawn.
 pub fn trimmed_face_mesh(face: &Face, grid: (usize, usize), trim: &Trim) -> FaceMesh {
-    let mut m = face_mesh(face, grid);
-    let ((u0, u1), (v0, v1)) = parameter_box(face);
+    let bx = trim.parameter_box();
+    let mut m = face_mesh_over(face, grid, bx);
+    let ((u0, u1), (v0, v1)) = bx;
     let (nu, nv) = (m.nu, m.nv);
     let uv = |k: u32| {
         let (i, j) = (k as usize % nu, k as usize / nu);

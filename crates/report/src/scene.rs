@@ -23,7 +23,8 @@ pub struct FaceView {
     pub kind: String,
     /// Triangles on the parameter grid (inside the trim, for a trimmed face).
     pub mesh: FaceMesh,
-    /// Whether the triangles were trimmed to the face's bound curves.
+    /// Whether the face was drawn to its bound curves (over the box they span, less
+    /// what they cut off) rather than over its surface's whole box.
     pub trimmed: bool,
     /// Control points, `n_u × n_v`, row by row (`i * n_v + j`).
     pub net: Vec<[f64; 3]>,
@@ -173,7 +174,7 @@ fn view<D: CadDocument>(
             Ok(FaceView {
                 name: p.entity.to_string(),
                 kind: p.type_name.clone(),
-                trimmed: t.is_some() && mesh.triangles.len() < 2 * (mesh.nu - 1) * (mesh.nv - 1),
+                trimmed: t.is_some(),
                 mesh,
                 net: p.surface.control_points().iter().map(|q| [q.x, q.y, q.z]).collect(),
                 net_u: p.surface.n_u(),

@@ -23,7 +23,11 @@
 //! across more than half the box (a curve crossing the closing seam) are not part of
 //! the boundary. Faces closed in both directions, curves that do not lie on the
 //! surface and faces with no curve are not trimmed ([`Trim::of`] gives `None`) and are
-//! drawn over their whole box.
+//! drawn over their whole box. A face whose curves span less than its surface's box
+//! (in a direction that is not closed) is drawn over the box they span
+//! ([`Trim::parameter_box`]), then cut to them: the grid then has its cells where the
+//! face is, and a loop that runs just inside the box (as IGES planes, drawn with a
+//! margin, have) is met exactly instead of to within a cell.
 
 use cadmorph_brep::{BoundCurve, Face};
 use cadmorph_nurbs::{Curve, Surface};
@@ -34,8 +38,8 @@ pub struct Trim {
     /// Whether coordinates are swapped (`(v, u)`), so that the ray runs along the
     /// second coordinate (the surface is closed in v).
     swapped: bool,
-    /// The box `((a0, a1), (b0, b1))` in the (possibly swapped) coordinates; the ray
-    /// runs towards `b1`.
+    /// The box drawn, `((a0, a1), (b0, b1))` in the (possibly swapped) coordinates; the
+    /// ray runs towards `b1`.
     bounds: ((f64, f64), (f64, f64)),
     /// Polyline steps inside the box, `[(a, b), (a, b)]`.
     segments: Vec<[(f64, f64); 2]>,
@@ -100,11 +104,14 @@ impl Trim {
             (false, true) => true,
             (true, true) => return None,
         };
-        let sw = |(u, v): (f64, f64)| if swapped { (v, u) } else { (u, v) };
-        let ((a0, a1), (b0, b1)) = if swapped { ((v0, v1), (u0, u1)) } else { ((u0, u1), (v0, v1)) };
-        let (ptol_a, ptol_b) = (1e-9 * (a1 - a0), 1e-9 * (b1 - b0));
-        let mut segments = Vec::new();
-        let mut top = Vec::new();
+        let (closed_u, closed_v) = (closed(true), closed(false));
+        let swapped = match (closed_u, closed_v) {
+            (_, false) => false,
+            (false, true) => true,
+            (true, true) => return None,
+        };
+        // The curves in (u, v).
+        let mut lines = Vec::with_capacity(bounds.len());
         for b in bounds {
             let ts = samples(b);
             let mut near = None;
@@ -116,10 +123,34 @@ impl Trim {
                     return None;
                 }
                 near = Some((pr.u, pr.v));
-                line.push(sw((pr.u, pr.v)));
+                line.push((pr.u, pr.v));
             }
+            lines.push(line);
+        }
+        // The box the curves span, in each direction that is not closed: the box to
+        // draw (a face whose loop lies inside its surface's box all round, as IGES
+        // planes drawn with a margin, is drawn over its loop's box).
+        let span = |k: usize, lo: f64, hi: f64| {
+            let c = |p: &(f64, f64)| if k == 0 { p.0 } else { p.1 };
+            let a = lines.iter().flatten().map(c).fold(f64::INFINITY, f64::min).max(lo);
+            let b = lines.iter().flatten().map(c).fold(f64::NEG_INFINITY, f64::max).min(hi);
+            let ptol = 1e-9 * (hi - lo);
+            (if a > lo + ptol { a } else { lo }, if b < hi - ptol { b } else { hi })
+        };
+        let (u0n, u1n) = if closed_u { (u0, u1) } else { span(0, u0, u1) };
+        let (v0n, v1n) = if closed_v { (v0, v1) } else { span(1, v0, v1) };
+        if !(u1n > u0n && v1n > v0n) {
+            return None;
+        }
+        let shrunk = (u0n, u1n, v0n, v1n) != (u0, u1, v0, v1);
+        let sw = |(u, v): (f64, f64)| if swapped { (v, u) } else { (u, v) };
+        let ((a0, a1), (b0, b1)) = if swapped { ((v0n, v1n), (u0n, u1n)) } else { ((u0n, u1n), (v0n, v1n)) };
+        let (ptol_a, ptol_b) = (1e-9 * (a1 - a0), 1e-9 * (b1 - b0));
+        let mut segments = Vec::new();
+        let mut top = Vec::new();
+        for line in &lines {
             for w in line.windows(2) {
-                let (p, q) = (w[0], w[1]);
+                let (p, q) = (sw(w[0]), sw(w[1]));
                 // A step across the closing seam of a closed direction is no boundary.
                 if (q.0 - p.0).abs() > 0.5 * (a1 - a0) || (q.1 - p.1).abs() > 0.5 * (b1 - b0) {
                     continue;
@@ -138,12 +169,28 @@ impl Trim {
                 }
             }
         }
-        let trim = Trim { swapped, bounds: ((a0, a1), (b0, b1)), segments, top };
-        // Loops along the box only: the whole box.
-        if trim.segments.is_empty() {
+        // Loops along the whole box only: no trim.
+        if segments.is_empty() && !shrunk {
             return None;
         }
-        Some(trim)
+        Some(Trim { swapped, bounds: ((a0, a1), (b0, b1)), segments, top })
+    }
+
+    /// The part of the surface's parameter box to draw, `((u0, u1), (v0, v1))`: the
+    /// box the face's bound curves span (the whole box in a closed direction).
+    pub fn parameter_box(&self) -> ((f64, f64), (f64, f64)) {
+        let (a, b) = self.bounds;
+        if self.swapped {
+            (b, a)
+        } else {
+            (a, b)
+        }
+    }
+
+    /// Whether the boundary cuts into the drawn box (else the face is the whole
+    /// [`Trim::parameter_box`]).
+    pub fn cuts(&self) -> bool {
+        !self.segments.is_empty()
     }
 
     /// Whether the surface point `(u, v)` belongs to the face.
@@ -223,6 +270,19 @@ mod tests {
     }
 
     #[test]
+    fn a_loop_inside_the_box_all_round_is_its_box() {
+        // The square [0.4, 3.6]² (parameters 0.1..0.9): drawn over its own box, uncut.
+        let inner = polyline(&[[0.4, 0.4], [3.6, 0.4], [3.6, 3.6], [0.4, 3.6], [0.4, 0.4]]);
+        let t = Trim::of(&plane(), &[&inner], BOX).unwrap();
+        let ((u0, u1), (v0, v1)) = t.parameter_box();
+        for (x, want) in [(u0, 0.1), (u1, 0.9), (v0, 0.1), (v1, 0.9)] {
+            assert!((x - want).abs() < 1e-12, "{:?}", t.parameter_box());
+        }
+        assert!(!t.cuts());
+        assert!(t.contains(0.5, 0.5) && t.contains(0.11, 0.89) && !t.contains(0.05, 0.5));
+    }
+
+    #[test]
     fn a_corner_cut_off() {
         // Outer loop: bottom, right up to y = 2, a diagonal to (2, 4), top back, left down.
         let pieces = [
@@ -232,6 +292,8 @@ mod tests {
         ];
         let refs: Vec<&BoundCurve> = pieces.iter().collect();
         let t = Trim::of(&plane(), &refs, BOX).unwrap();
+        assert_eq!(t.parameter_box(), BOX);
+        assert!(t.cuts());
         assert!(t.contains(0.2, 0.9) && t.contains(0.9, 0.2) && t.contains(0.6, 0.6));
         assert!(!t.contains(0.9, 0.9) && !t.contains(0.8, 0.75));
         assert!(!t.contains(1.5, 0.5), "outside the box");
