@@ -99,11 +99,6 @@ impl Trim {
                 (p - q).norm() <= 1e-7 * size
             })
         };
-        let swapped = match (closed(true), closed(false)) {
-            (_, false) => false,
-            (false, true) => true,
-            (true, true) => return None,
-        };
         let (closed_u, closed_v) = (closed(true), closed(false));
         let swapped = match (closed_u, closed_v) {
             (_, false) => false,
