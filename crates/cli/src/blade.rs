@@ -10,8 +10,9 @@ use anyhow::{bail, Context, Result};
 use cadmorph::blade::export::{iges_solids, step_solids};
 use cadmorph::blade::{errors_txt, export_ppg, reverse, BladeSolid, DesignTable, ParamFile, Propeller};
 use cadmorph::model::write_atomic;
-use cadmorph_report::profiles::profiles_svg;
-use cadmorph_report::radial::radial_laws_svg;
+use cadmorph_report::chart::{Plot, PlotFormat};
+use cadmorph_report::profiles::profiles_plot;
+use cadmorph_report::radial::radial_law_plot;
 use clap::Subcommand;
 
 /// The blade subcommands.
@@ -39,7 +40,8 @@ pub enum BladeCommand {
         /// Print a JSON report (section errors, seam gaps, volume, area, timings).
         #[arg(long)]
         json: bool,
-        /// Also write an SVG plot of the blade's sections (`profiles.svg`) into this folder.
+        /// Also write a plot of the blade's sections (`profiles.svg`, `profiles.png`) into
+        /// this folder.
         #[arg(long)]
         plots: Option<PathBuf>,
     },
@@ -92,8 +94,8 @@ pub enum BladeCommand {
         /// Sampling tolerance per law (chord, pitch, rake, skew, camber).
         #[arg(long, value_delimiter = ',', default_value = "1e-3,1e-3,1e-2,1e-2,1e-2")]
         tol: Vec<f64>,
-        /// Also write an SVG plot per radial law (`law_chord.svg`, ...: original and
-        /// deformed, with their control points) into this folder.
+        /// Also write a plot per radial law (`law_chord.svg` and `law_chord.png`, ...:
+        /// original and deformed, with their control points) into this folder.
         #[arg(long)]
         plots: Option<PathBuf>,
     },
@@ -108,11 +110,15 @@ fn table(path: &Path, prm: Option<&Path>, rbf_points: usize) -> Result<DesignTab
     Ok(t)
 }
 
-/// Writes `svg` as `dir/name` (creating `dir`) through the atomic writer.
-fn write_plot(dir: &Path, name: &str, svg: &str) -> Result<()> {
+/// Writes `plot` as `dir/stem.svg` or `dir/stem.png` (creating `dir`) through the
+/// atomic writer.
+fn write_plot(dir: &Path, stem: &str, plot: &Plot) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    let path = dir.join(name);
-    write_atomic(&path, svg.as_bytes()).with_context(|| format!("writing {}", path.display()))?;
+    let (path, bytes) = match plot {
+        Plot::Svg(s) => (dir.join(format!("{stem}.svg")), s.as_bytes()),
+        Plot::Png(p) => (dir.join(format!("{stem}.png")), p.as_slice()),
+    };
+    write_atomic(&path, bytes).with_context(|| format!("writing {}", path.display()))?;
     Ok(())
 }
 
@@ -157,8 +163,10 @@ pub fn run(cmd: BladeCommand) -> Result<()> {
             if let Some(dir) = &plots {
                 let named: Vec<(String, &cadmorph::blade::Profile)> =
                     blade.radii.iter().zip(&blade.sections).map(|(r, p)| (format!("r = {r}"), p)).collect();
-                let svg = profiles_svg(&format!("{} sections", t.name), &named, 900, 500)?;
-                write_plot(dir, "profiles.svg", &svg)?;
+                for format in [PlotFormat::Svg, PlotFormat::Png] {
+                    let plot = profiles_plot(&format!("{} sections", t.name), &named, (900, 500), format)?;
+                    write_plot(dir, "profiles", &plot)?;
+                }
             }
             let sections = solid.section_errors(&coords)?;
             let worst = sections.iter().map(|s| s.upper.max(s.lower)).fold(0.0, f64::max);
@@ -264,8 +272,12 @@ pub fn run(cmd: BladeCommand) -> Result<()> {
             let d = cadmorph::blade::Deformation::compute_all(f, rbf_points, tol)?;
             d.deformed_param_file().write(&output)?;
             if let Some(dir) = &plots {
-                for (p, svg) in radial_laws_svg(&d.laws, &d.deformed_laws, 720, 480)? {
-                    write_plot(dir, &format!("law_{}.svg", p.name()), &svg)?;
+                for law in &d.laws {
+                    let deformed = d.deformed_laws.iter().find(|x| x.param == law.param);
+                    for format in [PlotFormat::Svg, PlotFormat::Png] {
+                        let plot = radial_law_plot(law, deformed, (720, 480), format)?;
+                        write_plot(dir, &format!("law_{}", law.param.name()), &plot)?;
+                    }
                 }
             }
             println!("{} -> {}", prm.display(), output.display());

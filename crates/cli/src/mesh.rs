@@ -17,7 +17,7 @@ use cadmorph::mesh::quality::Quality;
 use cadmorph::mesh::MeshFile;
 use cadmorph::model::write_atomic;
 use cadmorph::morph::{Deformation, Parameters};
-use cadmorph_report::histogram::{histogram_svg, quality_samples};
+use cadmorph_report::histogram::{histogram_png, histogram_svg, quality_samples};
 use clap::{Args, Subcommand};
 
 /// `cadmorph mesh` subcommands.
@@ -33,8 +33,9 @@ pub enum MeshCommand {
         /// Print JSON instead of a table.
         #[arg(long)]
         json: bool,
-        /// Also write SVG histograms of the per-face and per-cell quality (non-orthogonality,
-        /// aspect ratio, cell volume) into this folder.
+        /// Also write histograms of the per-face and per-cell quality (non-orthogonality,
+        /// aspect ratio, cell volume, skewness) into this folder, each as NAME.svg and
+        /// NAME.png.
         #[arg(long)]
         histograms: Option<PathBuf>,
         /// The morphed mesh to draw as "after" in the histograms (INPUT is "before").
@@ -117,6 +118,9 @@ pub fn run(cmd: MeshCommand) -> Result<()> {
                         .collect();
                     let path = dir.join(format!("{file}.svg"));
                     write_atomic(&path, svg.as_bytes()).with_context(|| format!("writing {}", path.display()))?;
+                    let png = histogram_png(name, values, other, 30, 720, 440)?;
+                    let path = dir.join(format!("{file}.png"));
+                    write_atomic(&path, &png).with_context(|| format!("writing {}", path.display()))?;
                 }
             }
             if json {

@@ -227,6 +227,7 @@ pub fn run(a: Args) -> Result<()> {
             matches!(params, cadmorph::morph::Parameters::Ffd(_)).then_some(path.as_path()),
             a.refine_tol,
             a.angle_tol,
+            opts.refine.map(|r| (r.tol, r.angle_tol_deg)),
             elapsed,
             p,
         )?),

@@ -38,6 +38,7 @@ pub fn print(
             "max_gap_growth": r.max_gap_growth,
             "max_angle_growth_deg": r.max_angle_growth_deg,
             "input_defects": r.input_defects,
+            "per_round": r.per_round,
         })
     });
     crate::schema::print(

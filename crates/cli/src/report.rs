@@ -8,7 +8,7 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use cadmorph::model::{MorphOutcome, Staged};
 use cadmorph::morph::{Ffd, Parameters};
-use cadmorph::seam::SeamReport;
+use cadmorph::seam::{SeamRefinement, SeamReport};
 use cadmorph::Model;
 use cadmorph_report::html::{report_html, PageInfo};
 use cadmorph_report::render::pictures;
@@ -49,6 +49,26 @@ pub struct Args {
     /// G1 angles at this many degrees are the middle of the colour scale.
     #[arg(long, default_value_t = 0.01, value_parser = crate::limits::positive)]
     angle_tol: f64,
+    /// The `morph --json` output of the morph that made --after: the page shows its
+    /// refinement (rounds, growth per round) and control-point counts.
+    #[arg(long, requires = "after")]
+    morph_json: Option<PathBuf>,
+}
+
+/// The refinement in a `morph --json` document, if it refined.
+fn refinement_of(path: &Path) -> Result<Option<SeamRefinement>> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let doc: serde_json::Value =
+        serde_json::from_str(&text).with_context(|| format!("{}: not JSON", path.display()))?;
+    if !doc["schema"].as_str().is_some_and(|s| s.starts_with("cadmorph.morph/")) {
+        bail!("{} is not the output of `cadmorph morph --json`", path.display());
+    }
+    match &doc["refinement"] {
+        serde_json::Value::Null => Ok(None),
+        r => Ok(Some(
+            serde_json::from_value(r.clone()).with_context(|| format!("{}: reading its refinement", path.display()))?,
+        )),
+    }
 }
 
 /// The FFD of the parameter file `path`.
@@ -147,6 +167,7 @@ pub fn for_morph(
     ffd: Option<&Path>,
     gap_tol: Option<f64>,
     angle_tol: f64,
+    refine_tolerances: Option<(f64, f64)>,
     morph_seconds: f64,
     html_path: &Path,
 ) -> Result<(Files, f64)> {
@@ -168,6 +189,7 @@ pub fn for_morph(
         refinement: outcome.refinement.clone(),
         control_points: Some((outcome.control_points_before, outcome.control_points_after)),
         timings: vec![("morph (read, refine, morph, write)".into(), morph_seconds)],
+        refine_tolerances,
     };
     stage(scene, &info, html_path, &Extras::default(), started)
 }
@@ -200,11 +222,13 @@ pub fn run(a: Args) -> Result<()> {
         let n = |m: &Model| m.patches().iter().map(|p| p.surface.control_points().len()).sum::<usize>();
         (n(&before), n(m))
     });
+    let refinement = a.morph_json.as_deref().map(refinement_of).transpose()?.flatten();
     let info = PageInfo {
         title: format!("cadmorph report: {}", a.input.display()),
-        refinement: None,
+        refinement,
         control_points,
         timings: vec![("read".into(), read), ("measure seams".into(), seams)],
+        refine_tolerances: None,
     };
     let extras = Extras { glb: a.glb.as_deref(), vtu_dir: a.vtu_dir.as_deref(), png_dir: a.png_dir.as_deref() };
     let (files, seconds) = stage(scene, &info, &a.output, &extras, started)?;

@@ -94,11 +94,34 @@ fn morph_writes_its_report_with_the_output() {
         s(&out),
         "--report-html",
         s(&html),
+        "--json",
     ]);
-    ok(&o);
+    let json: serde_json::Value = serde_json::from_str(&ok(&o)).unwrap();
     assert!(String::from_utf8_lossy(&o.stderr).contains("written in"));
     let page = std::fs::read_to_string(&html).unwrap();
     assert!(out.exists());
+    // The growth table: a row per round of the JSON's per_round, the last row the
+    // refinement's final count as the JSON reports it.
+    let r = &json["refinement"];
+    let per_round = r["per_round"].as_array().unwrap();
+    assert_eq!(per_round.len() as u64, r["rounds"].as_u64().unwrap() + 1);
+    assert_eq!(per_round.last().unwrap()["control_points"], r["control_points_after"]);
+    assert_eq!(per_round[0]["control_points"], r["control_points_before"]);
+    let table = &page[page.find("<table class=\"growth\">").expect("growth table")..];
+    let table = &table[..table.find("</table>").unwrap()];
+    let counts: Vec<String> =
+        table.split("<tr><td>").skip(1).map(|row| row.split("</td><td>").nth(1).unwrap().to_string()).collect();
+    let want: Vec<String> = per_round.iter().map(|x| x["control_points"].to_string()).collect();
+    assert_eq!(counts, want);
+    assert!(page.contains("id=\"growth-plot\"><svg"));
+    // `cadmorph report --after OUT --morph-json` shows the same growth.
+    let js = d.join("m.json");
+    std::fs::write(&js, serde_json::to_string(&json).unwrap()).unwrap();
+    let html2 = d.join("r.html");
+    ok(&cadmorph(&["report", "samples/hull3.igs", "--after", s(&out), "--morph-json", s(&js), "-o", s(&html2)]));
+    let page2 = std::fs::read_to_string(&html2).unwrap();
+    let table2 = &page2[page2.find("<table class=\"growth\">").expect("growth table")..];
+    assert_eq!(&table2[..table2.find("</table>").unwrap()], table);
     // Both states, the refinement and the lattice.
     assert!(page.contains("Seams before") && page.contains("Seams after") && page.contains("Refinement"));
     assert!(page.contains("id=\"layer-lattice-moved\""));

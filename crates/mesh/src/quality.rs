@@ -247,6 +247,72 @@ fn skewness(
     sv.norm() / fd
 }
 
+/// The skewness of every face of `mesh`, as `checkMesh`'s `checkFaceSkewness` measures
+/// it (`primitiveMeshTools::faceSkewness`, `boundaryFaceSkewness`); coupled faces
+/// (cyclic, processor patches) get 0, as `checkMesh` leaves them out.
+///
+/// ```text
+/// internal face f, owner centre C_o, neighbour centre C_n, face centre C_f, area S_f:
+///   d  = C_n − C_o,   s = C_f − C_o − (S_f·(C_f − C_o)) / (S_f·d) · d
+///   skewness = |s| / max(0.2 |d|, max over the face's points p of |ŝ·(p − C_f)|)
+/// boundary face: d = n̂ (n̂·(C_f − C_o)) with n̂ = S_f/|S_f|, and 0.4 |d| instead of 0.2 |d|
+/// ```
+///
+/// `s` is the distance from the face centre to where the line between the two cell
+/// centres crosses the face's plane; the denominator makes it relative to the face's
+/// extent in that direction. `checkMesh` fails the mesh when a face exceeds
+/// [`SKEW_THRESHOLD`] (4); [`Quality::max_skewness`] is the largest of these values.
+///
+/// # Examples
+///
+/// ```
+/// use cadmorph_mesh::{format::foam::PolyMesh, quality::{face_skewness, Geometry}, Cell, CellKind};
+/// use cadmorph_morph::math::Point3;
+/// let p = [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.], [0., 0., 1.], [1., 0., 1.], [1., 1., 1.], [0., 1., 1.]];
+/// let mesh = PolyMesh::from_cells(p.iter().map(|&c| Point3::from(c)).collect(), &[Cell::new(CellKind::Hexahedron, (0..8).collect())])?;
+/// let skew = face_skewness(&mesh, &Geometry::of(&mesh));
+/// assert_eq!(skew.len(), 6);
+/// assert!(skew.iter().all(|s| s.abs() < 1e-12)); // a cube's faces are centred on the axis
+/// # Ok::<(), cadmorph_mesh::Error>(())
+/// ```
+pub fn face_skewness(mesh: &PolyMesh, g: &Geometry) -> Vec<f64> {
+    let pts = &mesh.points;
+    let (own, nei) = (mesh.owner(), mesh.neighbour());
+    let (nf, ni) = (mesh.n_faces(), mesh.n_internal_faces());
+    let mut skip = vec![false; nf];
+    for p in mesh.patches().iter().filter(|p| coupled(&p.kind)) {
+        for s in &mut skip[p.start_face..p.start_face + p.n_faces] {
+            *s = true;
+        }
+    }
+    (0..nf)
+        .into_par_iter()
+        .map(|f| {
+            if skip[f] {
+                return 0.0;
+            }
+            let n = if f < ni { Some(&g.cell_centres[nei[f]]) } else { None };
+            skewness(pts, mesh.face(f), &g.face_centres[f], &g.face_areas[f], &g.cell_centres[own[f]], n)
+        })
+        .collect()
+}
+
+/// The skewness of every cell of `mesh`: the largest [`face_skewness`] of its faces,
+/// as `checkMesh -writeFields '(skewness)'` writes its cell field (`writeFields.C`:
+/// the maximum over owner and neighbour faces). Its maximum over the cells is
+/// [`Quality::max_skewness`].
+pub fn cell_skewness(mesh: &PolyMesh, g: &Geometry) -> Vec<f64> {
+    let skew = face_skewness(mesh, g);
+    let mut out = vec![0.0f64; mesh.n_cells()];
+    for (f, &c) in mesh.owner().iter().enumerate() {
+        out[c] = out[c].max(skew[f]);
+    }
+    for (f, &c) in mesh.neighbour().iter().enumerate() {
+        out[c] = out[c].max(skew[f]);
+    }
+    out
+}
+
 /// OpenFOAM's `faceConcavity`: the largest sine of a concave corner (0 for convex faces).
 fn concavity(points: &[Point3<f64>], f: &[usize], fa: &Vector3<f64>) -> f64 {
     let n = f.len();
@@ -482,22 +548,7 @@ impl Quality {
         }
 
         // checkFaceSkewness (all faces but coupled ones).
-        let mut skip = vec![false; nf];
-        for p in mesh.patches().iter().filter(|p| coupled(&p.kind)) {
-            for s in &mut skip[p.start_face..p.start_face + p.n_faces] {
-                *s = true;
-            }
-        }
-        let skew: Vec<f64> = (0..nf)
-            .into_par_iter()
-            .map(|f| {
-                if skip[f] {
-                    return 0.0;
-                }
-                let n = if f < ni { Some(&g.cell_centres[nei[f]]) } else { None };
-                skewness(pts, mesh.face(f), &g.face_centres[f], &g.face_areas[f], &g.cell_centres[own[f]], n)
-            })
-            .collect();
+        let skew = face_skewness(mesh, g);
         let max_skewness = max_by(skew.iter().copied());
         let highly_skew_faces = skew.iter().filter(|&&s| s > SKEW_THRESHOLD).count();
         if highly_skew_faces > 0 {

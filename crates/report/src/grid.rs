@@ -7,11 +7,17 @@
 //! places, and a picture of the two differs only where the surface moved. The grid has
 //! `4 × (poles − 1)` intervals per direction of the *original* face, between 16 and 96.
 //!
-//! Trimming curves are not applied: a trimmed face is drawn over its parameter box
-//! (B-spline faces) or the surface's whole domain.
+//! A trimmed face is drawn trimmed ([`trimmed_face_mesh`]): the grid of the box its
+//! bound curves span, less the triangles whose centroid lies outside the face ([`Trim`]: outside the
+//! outer loop or inside a hole). The grid, and so the vertices, stay those of the whole
+//! box; only triangles are left out, so the drawn area converges to the face's area as
+//! the grid is refined, with an error of the order of the boundary's length times a
+//! grid cell's size.
 
 use cadmorph_brep::Face;
 use cadmorph_nurbs::{NurbsSurface, Surface};
+
+use crate::trim::Trim;
 
 /// A face's triangles.
 #[derive(Debug, Clone, PartialEq)]
@@ -34,9 +40,9 @@ pub fn grid_size(s: &NurbsSurface) -> (usize, usize) {
     (n(s.n_u()), n(s.n_v()))
 }
 
-/// The parameter box drawn for `face`: the face's own box where it is a B-spline box
-/// inside the surface's domain, else the whole domain.
-fn parameter_box(face: &Face) -> ((f64, f64), (f64, f64)) {
+/// The parameter box drawn for `face`, in its NURBS surface's parameters: the face's
+/// own box where it is a B-spline box inside the surface's domain, else the whole domain.
+pub fn parameter_box(face: &Face) -> ((f64, f64), (f64, f64)) {
     let (ud, vd) = face.surface.domain();
     let whole = ((*ud.start(), *ud.end()), (*vd.start(), *vd.end()));
     if face.kind.is_analytic() {
@@ -53,9 +59,13 @@ fn parameter_box(face: &Face) -> ((f64, f64), (f64, f64)) {
 }
 
 /// Tessellates `face` on an `nu × nv` grid of its parameter box.
-pub fn face_mesh(face: &Face, (nu, nv): (usize, usize)) -> FaceMesh {
+pub fn face_mesh(face: &Face, grid: (usize, usize)) -> FaceMesh {
+    face_mesh_over(face, grid, parameter_box(face))
+}
+
+/// Tessellates `face` on an `nu × nv` grid of the parameter box `((u0, u1), (v0, v1))`.
+fn face_mesh_over(face: &Face, (nu, nv): (usize, usize), ((u0, u1), (v0, v1)): ((f64, f64), (f64, f64))) -> FaceMesh {
     let (nu, nv) = (nu.max(2), nv.max(2));
-    let ((u0, u1), (v0, v1)) = parameter_box(face);
     let s = &face.surface;
     let flip = if face.reversed { -1.0 } else { 1.0 };
     let mut positions = Vec::with_capacity(nu * nv);
@@ -85,6 +95,47 @@ pub fn face_mesh(face: &Face, (nu, nv): (usize, usize)) -> FaceMesh {
         }
     }
     FaceMesh { positions, normals, nu, nv, triangles }
+}
+
+/// `face` on the grid of the box its trim spans ([`Trim::parameter_box`]), less the
+/// triangles whose centroid (in the surface's parameters) lies outside `trim`. All
+/// vertices of the grid are kept (so the same grid indices hold for any trim); when the
+/// trim would leave no triangle, the whole box is drawn.
+pub fn trimmed_face_mesh(face: &Face, grid: (usize, usize), trim: &Trim) -> FaceMesh {
+    let bx = trim.parameter_box();
+    let mut m = face_mesh_over(face, grid, bx);
+    let ((u0, u1), (v0, v1)) = bx;
+    let (nu, nv) = (m.nu, m.nv);
+    let uv = |k: u32| {
+        let (i, j) = (k as usize % nu, k as usize / nu);
+        (u0 + (u1 - u0) * i as f64 / (nu - 1) as f64, v0 + (v1 - v0) * j as f64 / (nv - 1) as f64)
+    };
+    let kept: Vec<[u32; 3]> = m
+        .triangles
+        .iter()
+        .copied()
+        .filter(|t| {
+            let (a, b, c) = (uv(t[0]), uv(t[1]), uv(t[2]));
+            trim.contains((a.0 + b.0 + c.0) / 3.0, (a.1 + b.1 + c.1) / 3.0)
+        })
+        .collect();
+    if !kept.is_empty() {
+        m.triangles = kept;
+    }
+    m
+}
+
+/// The area of the triangles of `m`, model units squared.
+pub fn mesh_area(m: &FaceMesh) -> f64 {
+    m.triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|k| m.positions[k as usize]);
+            let (e, f) = ([b[0] - a[0], b[1] - a[1], b[2] - a[2]], [c[0] - a[0], c[1] - a[1], c[2] - a[2]]);
+            let n = [e[1] * f[2] - e[2] * f[1], e[2] * f[0] - e[0] * f[2], e[0] * f[1] - e[1] * f[0]];
+            0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
+        })
+        .sum()
 }
 
 #[cfg(test)]

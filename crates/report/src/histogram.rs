@@ -1,16 +1,18 @@
-//! Histograms of mesh quality before and after a morph, as SVG: for each metric the
+//! Histograms of mesh quality before and after a morph, as SVG or PNG: for each metric the
 //! values of the original mesh (blue bars, left half of each bin) and of the morphed
 //! mesh (red bars, right half) over common bins, with a legend. [`quality_samples`]
 //! gives the per-face and per-cell values plotted: face non-orthogonality, cell aspect
-//! ratio and cell volume, computed as OpenFOAM's `checkMesh` computes them.
+//! ratio, cell volume and cell skewness, computed as OpenFOAM's `checkMesh` computes them.
 
 use std::ops::Range;
 
 use cadmorph_mesh::format::foam::PolyMesh;
-use cadmorph_mesh::quality::Geometry;
+use cadmorph_mesh::quality::{cell_skewness, Geometry};
+use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::radial::{check_size, plot_error};
+use crate::chart::{check_size, drawn, legend, render, Figure, Frame, Plot, PlotFormat};
+use crate::radial::plot_error;
 use crate::Result;
 
 /// Bins over `range` (`bins` of equal width) and the number of finite `values` in each;
@@ -52,48 +54,28 @@ pub const BEFORE: RGBColor = RGBColor(31, 119, 180);
 /// The colour of the "after" bars.
 pub const AFTER: RGBColor = RGBColor(214, 39, 40);
 
-/// An SVG histogram (`width × height` pixels, each 64..=8192) of `metric` over `bins`
-/// (1..=1000) common bins: one bar per non-empty bin of `before` (legend "before") and,
-/// when given, of `after` (legend "after"). Non-finite values are left out.
-///
-/// # Errors
-///
-/// [`Error::Plot`](crate::Error::Plot) when no value is finite or `bins` is out of
-/// range, [`Error::ImageSize`](crate::Error::ImageSize).
-pub fn histogram_svg(
-    metric: &str,
-    before: &[f64],
-    after: Option<&[f64]>,
-    bins: usize,
-    width: u32,
-    height: u32,
-) -> Result<String> {
-    check_size(width, height)?;
-    if !(1..=1000).contains(&bins) {
-        return Err(plot_error(metric, format!("{bins} bins (1..=1000)")));
-    }
-    let mut sets = vec![before];
-    sets.extend(after);
-    let range = common_range(&sets).ok_or_else(|| plot_error(metric, "no finite value to plot"))?;
-    let cb = bin_counts(before, &range, bins);
-    let ca = after.map(|a| bin_counts(a, &range, bins));
-    let top = cb.iter().chain(ca.iter().flatten()).copied().max().unwrap_or(0).max(1);
-    let bw = (range.end - range.start) / bins as f64;
-    let mut svg = String::new();
-    {
-        let e = |e: DrawingAreaErrorKind<std::io::Error>| plot_error(metric, e);
-        let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
-        root.fill(&WHITE).map_err(e)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(metric, ("sans-serif", 18))
-            .margin(10)
-            .x_label_area_size(36)
-            .y_label_area_size(56)
-            .build_cartesian_2d(range.clone(), 0.0..(top as f64 * 1.08))
-            .map_err(e)?;
-        chart.configure_mesh().x_desc(metric).y_desc("count").x_labels(6).y_labels(6).draw().map_err(e)?;
+struct Histogram<'a> {
+    metric: &'a str,
+    range: Range<f64>,
+    before: Vec<usize>,
+    after: Option<Vec<usize>>,
+}
+
+impl Figure for Histogram<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> std::result::Result<(), String> {
+        let top = self.before.iter().chain(self.after.iter().flatten()).copied().max().unwrap_or(0).max(1);
+        let bins = self.before.len();
+        let bw = (self.range.end - self.range.start) / bins as f64;
+        let frame = Frame {
+            caption: Some(self.metric),
+            y_area: 56,
+            x_desc: self.metric,
+            y_desc: "count",
+            ..Default::default()
+        };
+        let mut chart = frame.build(root, self.range.clone(), 0.0..(top as f64 * 1.08))?;
         let bars = |counts: &[usize], half: f64, c: RGBColor| {
-            let start = range.start;
+            let start = self.range.start;
             counts
                 .iter()
                 .enumerate()
@@ -104,36 +86,93 @@ pub fn histogram_svg(
                 })
                 .collect::<Vec<_>>()
         };
-        let (half_b, half_a) = if ca.is_some() { (0.0, 0.5) } else { (0.25, 0.5) };
+        let (half_b, half_a) = if self.after.is_some() { (0.0, 0.5) } else { (0.25, 0.5) };
         chart
-            .draw_series(bars(&cb, half_b, BEFORE))
-            .map_err(e)?
+            .draw_series(bars(&self.before, half_b, BEFORE))
+            .map_err(drawn)?
             .label("before")
             .legend(|(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], BEFORE.filled()));
-        if let Some(ca) = &ca {
+        if let Some(ca) = &self.after {
             chart
                 .draw_series(bars(ca, half_a, AFTER))
-                .map_err(e)?
+                .map_err(drawn)?
                 .label("after")
                 .legend(|(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], AFTER.filled()));
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(e)?;
-        root.present().map_err(e)?;
+        legend(&mut chart, SeriesLabelPosition::UpperRight)
     }
-    Ok(svg)
+}
+
+/// A histogram (`width × height` pixels, each 64..=8192) of `metric` over `bins`
+/// (1..=1000) common bins, as SVG or PNG: one bar per non-empty bin of `before` (legend
+/// "before") and, when given, of `after` (legend "after"). Non-finite values are left out.
+///
+/// # Errors
+///
+/// [`Error::Plot`](crate::Error::Plot) when no value is finite or `bins` is out of
+/// range, [`Error::ImageSize`](crate::Error::ImageSize), [`Error::Png`](crate::Error::Png).
+pub fn histogram(
+    metric: &str,
+    before: &[f64],
+    after: Option<&[f64]>,
+    bins: usize,
+    (width, height): (u32, u32),
+    format: PlotFormat,
+) -> Result<Plot> {
+    check_size(width, height)?;
+    if !(1..=1000).contains(&bins) {
+        return Err(plot_error(metric, format!("{bins} bins (1..=1000)")));
+    }
+    let mut sets = vec![before];
+    sets.extend(after);
+    let range = common_range(&sets).ok_or_else(|| plot_error(metric, "no finite value to plot"))?;
+    let fig = Histogram {
+        metric,
+        before: bin_counts(before, &range, bins),
+        after: after.map(|a| bin_counts(a, &range, bins)),
+        range,
+    };
+    render(metric, format, (width, height), &fig)
+}
+
+/// [`histogram`] as SVG text.
+///
+/// # Errors
+///
+/// As [`histogram`].
+pub fn histogram_svg(
+    metric: &str,
+    before: &[f64],
+    after: Option<&[f64]>,
+    bins: usize,
+    width: u32,
+    height: u32,
+) -> Result<String> {
+    Ok(histogram(metric, before, after, bins, (width, height), PlotFormat::Svg)?.into_svg().expect("an SVG plot"))
+}
+
+/// [`histogram`] as PNG bytes.
+///
+/// # Errors
+///
+/// As [`histogram`].
+pub fn histogram_png(
+    metric: &str,
+    before: &[f64],
+    after: Option<&[f64]>,
+    bins: usize,
+    width: u32,
+    height: u32,
+) -> Result<Vec<u8>> {
+    Ok(histogram(metric, before, after, bins, (width, height), PlotFormat::Png)?.into_png().expect("a PNG plot"))
 }
 
 /// The per-face and per-cell quality values of `mesh`, named as the histograms title
 /// them: "non-orthogonality (deg)" of each internal face (the angle between the face
 /// area vector and the owner-to-neighbour centre vector, `checkFaceOrthogonality`),
-/// "aspect ratio" of each cell (`checkClosedCells`, all three directions solved), and
-/// "cell volume".
+/// "aspect ratio" of each cell (`checkClosedCells`, all three directions solved),
+/// "cell volume", and "skewness" of each cell (the largest `checkFaceSkewness` value of
+/// its faces, [`cell_skewness`]: its maximum is `checkMesh`'s "Max skewness").
 pub fn quality_samples(mesh: &PolyMesh) -> Vec<(&'static str, Vec<f64>)> {
     let g = Geometry::of(mesh);
     let (own, nei) = (mesh.owner(), mesh.neighbour());
@@ -167,5 +206,11 @@ pub fn quality_samples(mesh: &PolyMesh) -> Vec<(&'static str, Vec<f64>)> {
             (hi / (lo + 1e-150)).max((s[0] + s[1] + s[2]) / 6.0 / v.powf(2.0 / 3.0))
         })
         .collect();
-    vec![("non-orthogonality (deg)", ortho), ("aspect ratio", aspect), ("cell volume", g.cell_volumes)]
+    let skew = cell_skewness(mesh, &g);
+    vec![
+        ("non-orthogonality (deg)", ortho),
+        ("aspect ratio", aspect),
+        ("cell volume", g.cell_volumes),
+        ("skewness", skew),
+    ]
 }

@@ -10,6 +10,8 @@ use base64::Engine;
 use cadmorph_seam::{SeamRefinement, SeamReport};
 use serde_json::{json, Value};
 
+use crate::chart::PlotFormat;
+use crate::growth::{growth_plot, growth_table};
 use crate::page::{escape, head, num, png_data_url, script_json, SORT_JS, VIEWER_JS};
 use crate::render::{Picture, FACE_COLOURS, LATTICE_MOVED, LATTICE_ORIGINAL, NET};
 use crate::scene::{ModelView, Scene};
@@ -26,7 +28,13 @@ pub struct PageInfo {
     pub control_points: Option<(usize, usize)>,
     /// Named durations, seconds (reading, morph, report...).
     pub timings: Vec<(String, f64)>,
+    /// The refinement's tolerances `(gap in model units, angle in degrees)`, drawn as
+    /// lines on the growth plot.
+    pub refine_tolerances: Option<(f64, f64)>,
 }
+
+/// Pixel size of the refinement growth plot in the page.
+pub const GROWTH_PLOT: (u32, u32) = (900, 320);
 
 fn b64_f32(v: &[f32]) -> String {
     base64::engine::general_purpose::STANDARD.encode(v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>())
@@ -146,7 +154,7 @@ pub fn seam_table(scene: &Scene, state: &ModelView, r: &SeamReport) -> String {
 ///
 /// # Errors
 ///
-/// [`crate::Error::Json`].
+/// [`crate::Error::Json`]; [`crate::Error::Plot`] when the growth plot cannot be drawn.
 pub fn report_html(scene: &Scene, info: &PageInfo, pictures: &[Picture]) -> Result<String> {
     let mut h = head(&info.title);
     let _ = writeln!(h, "<h1>{}</h1>", escape(&info.title));
@@ -214,6 +222,13 @@ pub fn report_html(scene: &Scene, info: &PageInfo, pictures: &[Picture]) -> Resu
             );
         }
         h.push_str("</table>\n");
+        if let Some(r) = info.refinement.as_ref().filter(|r| !r.per_round.is_empty()) {
+            h.push_str("<h3>Growth per round</h3>\n");
+            h.push_str(&growth_table(r, &scene.unit));
+            let plot = growth_plot(r, &scene.unit, info.refine_tolerances, GROWTH_PLOT, PlotFormat::Svg)?;
+            let _ =
+                writeln!(h, "<figure class=\"plot\" id=\"growth-plot\">{}</figure>", plot.html("refinement growth"));
+        }
     }
     if !info.timings.is_empty() {
         h.push_str("<h2>Timings</h2><table>");

@@ -1,11 +1,15 @@
-//! Blade profiles (the 2D airfoil sections) as an SVG plot: each profile as its closed
+//! Blade profiles (the 2D airfoil sections) as an SVG or PNG plot: each profile as its closed
 //! outline (upper side from leading to trailing edge, lower side back), one colour per
 //! profile with a legend, on axes of equal scale so that the shapes are not distorted.
 
+use std::ops::Range;
+
 use cadmorph_blade::Profile;
+use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::radial::{check_size, padded, plot_error};
+use crate::chart::{check_size, drawn, legend, render, Figure, Frame, Plot, PlotFormat};
+use crate::radial::{padded, plot_error};
 use crate::Result;
 
 /// The colours of successive profiles (repeating).
@@ -30,15 +34,55 @@ const Y_LABELS: u32 = 64;
 const MARGIN: u32 = 10;
 const CAPTION: u32 = 28;
 
-/// An SVG plot (`width × height` pixels, each 64..=8192) of the named `profiles`, each
-/// outline labelled with its name in the legend; the axis ranges are widened so that one
-/// unit is as long along x as along y.
+struct Profiles<'a> {
+    title: &'a str,
+    names: Vec<&'a str>,
+    outlines: Vec<Vec<(f64, f64)>>,
+    xr: Range<f64>,
+    yr: Range<f64>,
+}
+
+impl Figure for Profiles<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> std::result::Result<(), String> {
+        let frame = Frame {
+            caption: Some(self.title),
+            margin: MARGIN,
+            x_area: X_LABELS,
+            y_area: Y_LABELS,
+            x_desc: "x",
+            y_desc: "y",
+            ..Default::default()
+        };
+        let mut chart = frame.build(root, self.xr.clone(), self.yr.clone())?;
+        for (k, (name, pts)) in self.names.iter().zip(&self.outlines).enumerate() {
+            let c = PALETTE[k % PALETTE.len()];
+            chart
+                .draw_series(LineSeries::new(
+                    pts.iter().copied().filter(|q| q.0.is_finite() && q.1.is_finite()),
+                    c.stroke_width(2),
+                ))
+                .map_err(drawn)?
+                .label(*name)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+        }
+        legend(&mut chart, SeriesLabelPosition::UpperRight)
+    }
+}
+
+/// A plot (`width × height` pixels, each 64..=8192) of the named `profiles`, as SVG or
+/// PNG, each outline labelled with its name in the legend; the axis ranges are widened
+/// so that one unit is as long along x as along y.
 ///
 /// # Errors
 ///
 /// [`Error::Plot`](crate::Error::Plot) when there is no profile or no finite point,
-/// [`Error::ImageSize`](crate::Error::ImageSize).
-pub fn profiles_svg(title: &str, profiles: &[(String, &Profile)], width: u32, height: u32) -> Result<String> {
+/// [`Error::ImageSize`](crate::Error::ImageSize), [`Error::Png`](crate::Error::Png).
+pub fn profiles_plot(
+    title: &str,
+    profiles: &[(String, &Profile)],
+    (width, height): (u32, u32),
+    format: PlotFormat,
+) -> Result<Plot> {
     check_size(width, height)?;
     let what = "profiles";
     if profiles.is_empty() {
@@ -58,38 +102,24 @@ pub fn profiles_svg(title: &str, profiles: &[(String, &Profile)], width: u32, he
         let (c, h) = (0.5 * (xr.start + xr.end), 0.5 * sy * pw);
         xr = (c - h)..(c + h);
     }
-    let mut svg = String::new();
-    {
-        let e = |e: DrawingAreaErrorKind<std::io::Error>| plot_error(what, e);
-        let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
-        root.fill(&WHITE).map_err(e)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 18))
-            .margin(MARGIN)
-            .x_label_area_size(X_LABELS)
-            .y_label_area_size(Y_LABELS)
-            .build_cartesian_2d(xr, yr)
-            .map_err(e)?;
-        chart.configure_mesh().x_desc("x").y_desc("y").x_labels(6).y_labels(6).draw().map_err(e)?;
-        for (k, ((name, _), pts)) in profiles.iter().zip(&outlines).enumerate() {
-            let c = PALETTE[k % PALETTE.len()];
-            chart
-                .draw_series(LineSeries::new(
-                    pts.iter().copied().filter(|q| q.0.is_finite() && q.1.is_finite()),
-                    c.stroke_width(2),
-                ))
-                .map_err(e)?
-                .label(name.as_str())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
-        }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(e)?;
-        root.present().map_err(e)?;
-    }
-    Ok(svg)
+    let names = profiles.iter().map(|(n, _)| n.as_str()).collect();
+    render(what, format, (width, height), &Profiles { title, names, outlines, xr, yr })
+}
+
+/// [`profiles_plot`] as SVG text.
+///
+/// # Errors
+///
+/// As [`profiles_plot`].
+pub fn profiles_svg(title: &str, profiles: &[(String, &Profile)], width: u32, height: u32) -> Result<String> {
+    Ok(profiles_plot(title, profiles, (width, height), PlotFormat::Svg)?.into_svg().expect("an SVG plot"))
+}
+
+/// [`profiles_plot`] as PNG bytes.
+///
+/// # Errors
+///
+/// As [`profiles_plot`].
+pub fn profiles_png(title: &str, profiles: &[(String, &Profile)], width: u32, height: u32) -> Result<Vec<u8>> {
+    Ok(profiles_plot(title, profiles, (width, height), PlotFormat::Png)?.into_png().expect("a PNG plot"))
 }

@@ -1,4 +1,4 @@
-//! The radial laws of a blade as SVG plots (BladeX paper, Figure 7): each law (chord,
+//! The radial laws of a blade as SVG or PNG plots (BladeX paper, Figure 7): each law (chord,
 //! pitch, rake, skew, camber against radius) as its B-spline curve with its control
 //! polygon and control points, the original in blue (dots) and the deformed law in red
 //! (squares), with a legend.
@@ -6,8 +6,10 @@
 use std::ops::Range;
 
 use cadmorph_blade::{LawParam, RadialLaw};
+use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use crate::chart::{check_size, drawn, legend, render, Figure, Frame, Plot, PlotFormat};
 use crate::{Error, Result};
 
 /// Samples of each curve drawn (BladeX samples its laws with 1000 points; 200 is
@@ -47,23 +49,21 @@ pub(crate) fn padded(what: &str, values: impl Iterator<Item = f64>) -> Result<Ra
     Ok((lo - pad)..(hi + pad))
 }
 
-pub(crate) fn check_size(width: u32, height: u32) -> Result<()> {
-    if !(64..=8192).contains(&width) || !(64..=8192).contains(&height) {
-        return Err(Error::ImageSize { width, height });
-    }
-    Ok(())
-}
-
-/// An SVG plot (`width × height` pixels, each 64..=8192) of the law `original` and, when
-/// given, `deformed` (the same parameter): curve, control polygon and control points of
-/// each, legend entries "original", "original control points", "deformed", "deformed
-/// control points".
+/// A plot (`width × height` pixels, each 64..=8192) of the law `original` and, when
+/// given, `deformed` (the same parameter), as SVG or PNG: curve, control polygon and
+/// control points of each, legend entries "original", "original control points",
+/// "deformed", "deformed control points".
 ///
 /// # Errors
 ///
 /// [`Error::Plot`] when the two laws are of different parameters or nothing is finite,
-/// [`Error::Blade`] when a law cannot be sampled, [`Error::ImageSize`].
-pub fn radial_law_svg(original: &RadialLaw, deformed: Option<&RadialLaw>, width: u32, height: u32) -> Result<String> {
+/// [`Error::Blade`] when a law cannot be sampled, [`Error::ImageSize`], [`Error::Png`].
+pub fn radial_law_plot(
+    original: &RadialLaw,
+    deformed: Option<&RadialLaw>,
+    (width, height): (u32, u32),
+    format: PlotFormat,
+) -> Result<Plot> {
     check_size(width, height)?;
     let what = original.param.name();
     if let Some(d) = deformed {
@@ -81,80 +81,80 @@ pub fn radial_law_svg(original: &RadialLaw, deformed: Option<&RadialLaw>, width:
     };
     let xr = padded(what, all().map(|p| p[0]))?;
     let yr = padded(what, all().map(|p| p[1]))?;
-    let mut svg = String::new();
-    draw_law(&mut svg, (width, height), original.param, xr, yr, &orig, original, def.as_deref().zip(deformed))
-        .map_err(|e| plot_error(what, e))?;
-    Ok(svg)
+    let fig = Law { xr, yr, orig: &orig, original, deformed: def.as_deref().zip(deformed) };
+    render(what, format, (width, height), &fig)
 }
 
-type Drawn = std::result::Result<(), String>;
+/// [`radial_law_plot`] as SVG text.
+///
+/// # Errors
+///
+/// As [`radial_law_plot`].
+pub fn radial_law_svg(original: &RadialLaw, deformed: Option<&RadialLaw>, width: u32, height: u32) -> Result<String> {
+    Ok(radial_law_plot(original, deformed, (width, height), PlotFormat::Svg)?.into_svg().expect("an SVG plot"))
+}
 
-#[allow(clippy::too_many_arguments)]
-fn draw_law(
-    svg: &mut String,
-    size: (u32, u32),
-    param: LawParam,
+/// [`radial_law_plot`] as PNG bytes.
+///
+/// # Errors
+///
+/// As [`radial_law_plot`].
+pub fn radial_law_png(original: &RadialLaw, deformed: Option<&RadialLaw>, width: u32, height: u32) -> Result<Vec<u8>> {
+    Ok(radial_law_plot(original, deformed, (width, height), PlotFormat::Png)?.into_png().expect("a PNG plot"))
+}
+
+struct Law<'a> {
     xr: Range<f64>,
     yr: Range<f64>,
-    orig: &[[f64; 2]],
-    original: &RadialLaw,
-    deformed: Option<(&[[f64; 2]], &RadialLaw)>,
-) -> Drawn {
-    let e = |e: DrawingAreaErrorKind<std::io::Error>| e.to_string();
-    let root = SVGBackend::with_string(svg, size).into_drawing_area();
-    root.fill(&WHITE).map_err(e)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(format!("{} law", param.name()), ("sans-serif", 18))
-        .margin(10)
-        .x_label_area_size(36)
-        .y_label_area_size(64)
-        .build_cartesian_2d(xr, yr)
-        .map_err(e)?;
-    chart.configure_mesh().x_desc("radius").y_desc(law_label(param)).x_labels(6).y_labels(6).draw().map_err(e)?;
-    let blue = RGBColor(31, 119, 180);
-    let red = RGBColor(214, 39, 40);
-    let xy = |p: &[f64; 2]| (p[0], p[1]);
-    chart
-        .draw_series(LineSeries::new(orig.iter().map(xy), blue.stroke_width(2)))
-        .map_err(e)?
-        .label("original")
-        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], blue.stroke_width(2)));
-    chart
-        .draw_series(LineSeries::new(original.control_points.iter().map(xy), blue.mix(0.5).stroke_width(1)))
-        .map_err(e)?;
-    chart
-        .draw_series(original.control_points.iter().map(|p| Circle::new(xy(p), 4, blue.filled())))
-        .map_err(e)?
-        .label("original control points")
-        .legend(move |(x, y)| Circle::new((x + 10, y), 4, blue.filled()));
-    if let Some((def, law)) = deformed {
+    orig: &'a [[f64; 2]],
+    original: &'a RadialLaw,
+    deformed: Option<(&'a [[f64; 2]], &'a RadialLaw)>,
+}
+
+impl Figure for Law<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> std::result::Result<(), String> {
+        let param = self.original.param;
+        let caption = format!("{} law", param.name());
+        let frame = Frame { caption: Some(&caption), x_desc: "radius", y_desc: law_label(param), ..Default::default() };
+        let mut chart = frame.build(root, self.xr.clone(), self.yr.clone())?;
+        let blue = RGBColor(31, 119, 180);
+        let red = RGBColor(214, 39, 40);
+        let xy = |p: &[f64; 2]| (p[0], p[1]);
+        let original = self.original;
         chart
-            .draw_series(LineSeries::new(def.iter().map(xy), red.stroke_width(2)))
-            .map_err(e)?
-            .label("deformed")
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], red.stroke_width(2)));
+            .draw_series(LineSeries::new(self.orig.iter().map(xy), blue.stroke_width(2)))
+            .map_err(drawn)?
+            .label("original")
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], blue.stroke_width(2)));
         chart
-            .draw_series(LineSeries::new(law.control_points.iter().map(xy), red.mix(0.5).stroke_width(1)))
-            .map_err(e)?;
+            .draw_series(LineSeries::new(original.control_points.iter().map(xy), blue.mix(0.5).stroke_width(1)))
+            .map_err(drawn)?;
         chart
-            .draw_series(
-                law.control_points
-                    .iter()
-                    .map(|p| EmptyElement::at(xy(p)) + Rectangle::new([(-4, -4), (4, 4)], red.filled())),
-            )
-            .map_err(e)?
-            .label("deformed control points")
-            .legend(move |(x, y)| Rectangle::new([(x + 6, y - 4), (x + 14, y + 4)], red.filled()));
+            .draw_series(original.control_points.iter().map(|p| Circle::new(xy(p), 4, blue.filled())))
+            .map_err(drawn)?
+            .label("original control points")
+            .legend(move |(x, y)| Circle::new((x + 10, y), 4, blue.filled()));
+        if let Some((def, law)) = self.deformed {
+            chart
+                .draw_series(LineSeries::new(def.iter().map(xy), red.stroke_width(2)))
+                .map_err(drawn)?
+                .label("deformed")
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], red.stroke_width(2)));
+            chart
+                .draw_series(LineSeries::new(law.control_points.iter().map(xy), red.mix(0.5).stroke_width(1)))
+                .map_err(drawn)?;
+            chart
+                .draw_series(
+                    law.control_points
+                        .iter()
+                        .map(|p| EmptyElement::at(xy(p)) + Rectangle::new([(-4, -4), (4, 4)], red.filled())),
+                )
+                .map_err(drawn)?
+                .label("deformed control points")
+                .legend(move |(x, y)| Rectangle::new([(x + 6, y - 4), (x + 14, y + 4)], red.filled()));
+        }
+        legend(&mut chart, SeriesLabelPosition::UpperLeft)
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperLeft)
-        .draw()
-        .map_err(e)?;
-    root.present().map_err(e)?;
-    Ok(())
 }
 
 /// One SVG per law of `original` (by [`LawParam`]), each with the deformed law of the

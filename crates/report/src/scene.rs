@@ -1,4 +1,5 @@
-//! What a report shows, gathered from the models: each face's triangles and control net,
+//! What a report shows, gathered from the models: each face's triangles (trimmed to its
+//! bound curves) and control net,
 //! the seam lines with their numbers, the FFD lattice before and after, the bounds.
 
 use cadmorph_brep::CadDocument;
@@ -8,8 +9,9 @@ use cadmorph_seam::SeamReport;
 use serde::Serialize;
 
 use crate::colour::Scale;
-use crate::grid::{face_mesh, grid_size, FaceMesh};
+use crate::grid::{face_mesh, grid_size, parameter_box, trimmed_face_mesh, FaceMesh};
 use crate::seamline::{seam_lines, SeamLine};
+use crate::trim::Trim;
 use crate::{Error, Result};
 
 /// A face as drawn: its name, triangles and control net.
@@ -19,8 +21,11 @@ pub struct FaceView {
     pub name: String,
     /// The surface type as the file names it.
     pub kind: String,
-    /// Triangles on the parameter grid.
+    /// Triangles on the parameter grid (inside the trim, for a trimmed face).
     pub mesh: FaceMesh,
+    /// Whether the face was drawn to its bound curves (over the box they span, less
+    /// what they cut off) rather than over its surface's whole box.
+    pub trimmed: bool,
     /// Control points, `n_u × n_v`, row by row (`i * n_v + j`).
     pub net: Vec<[f64; 3]>,
     /// Control points along u.
@@ -139,20 +144,37 @@ pub struct Input<'a, D: CadDocument> {
     pub source: String,
 }
 
-fn view<D: CadDocument>(name: &str, i: &Input<D>, grids: &[(usize, usize)]) -> Result<ModelView> {
+/// The trim of face `k` of `m` ([`Trim::of`] on its bound curves).
+fn trim_of<D: CadDocument>(m: &Model<D>, k: usize) -> Option<Trim> {
+    let p = &m.patches()[k];
+    let bounds: Vec<_> = m.bound_curves().iter().filter(|b| b.face == k).collect();
+    Trim::of(p, &bounds, parameter_box(p))
+}
+
+fn view<D: CadDocument>(
+    name: &str,
+    i: &Input<D>,
+    grids: &[(usize, usize)],
+    trims: &[Option<Trim>],
+) -> Result<ModelView> {
     let faces = i
         .model
         .patches()
         .iter()
         .zip(grids)
-        .map(|(p, &g)| {
-            let mesh = face_mesh(p, g);
+        .zip(trims)
+        .map(|((p, &g), t)| {
+            let mesh = match t {
+                Some(t) => trimmed_face_mesh(p, g, t),
+                None => face_mesh(p, g),
+            };
             if mesh.positions.iter().flatten().any(|c| !c.is_finite()) {
                 return Err(Error::NotFinite { what: format!("face {}", p.entity) });
             }
             Ok(FaceView {
                 name: p.entity.to_string(),
                 kind: p.type_name.clone(),
+                trimmed: t.is_some(),
                 mesh,
                 net: p.surface.control_points().iter().map(|q| [q.x, q.y, q.z]).collect(),
                 net_u: p.surface.n_u(),
@@ -195,8 +217,34 @@ impl Scene {
             }
         }
         let grids: Vec<_> = patches.iter().map(|p| grid_size(&p.surface)).collect();
-        let b = view("before", &before, &grids)?;
-        let a = after.map(|a| view("after", &a, &grids)).transpose()?;
+        // The faces of `after` are trimmed as `before`'s where their parameter boxes
+        // agree (a morph keeps them: the same triangles are drawn before and after), by
+        // their own bound curves elsewhere.
+        let b_trims: Vec<_> = (0..patches.len()).map(|k| trim_of(before.model, k)).collect();
+        let b = view("before", &before, &grids, &b_trims)?;
+        let a = after
+            .map(|a| {
+                let t: Vec<Option<Trim>> = patches
+                    .iter()
+                    .zip(a.model.patches())
+                    .zip(&b_trims)
+                    .enumerate()
+                    .map(|(k, ((p, q), bt))| {
+                        let (x, y) = (parameter_box(p), parameter_box(q));
+                        let tol = 1e-9 * ((x.0 .1 - x.0 .0).abs() + (x.1 .1 - x.1 .0).abs());
+                        let same = [x.0 .0 - y.0 .0, x.0 .1 - y.0 .1, x.1 .0 - y.1 .0, x.1 .1 - y.1 .1]
+                            .iter()
+                            .all(|d| d.abs() <= tol);
+                        if same {
+                            bt.clone()
+                        } else {
+                            trim_of(a.model, k)
+                        }
+                    })
+                    .collect();
+                view("after", &a, &grids, &t)
+            })
+            .transpose()?;
         let lattice = ffd.map(Lattice::of);
         let (mut min, mut max) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
         let mut grow = |p: &[f64; 3]| {

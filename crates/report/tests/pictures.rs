@@ -143,6 +143,7 @@ fn main_job_page_is_small_and_offline() {
         refinement: outcome.refinement.clone(),
         control_points: Some((outcome.control_points_before, outcome.control_points_after)),
         timings: vec![],
+        refine_tolerances: None,
     };
     let html = cadmorph_report::html::report_html(&sc, &info, &pics).unwrap();
     assert!(html.len() < 5_000_000, "{} bytes", html.len());
@@ -153,5 +154,29 @@ fn main_job_page_is_small_and_offline() {
         }
     }
     assert!(!html.contains("http://") && !html.contains("https://"));
-    println!("main job page: {} bytes", html.len());
+    // Refinement growth: one table row per round, the last the refinement's own final
+    // count, which is the morph's count of control points after (every face refined).
+    let r = outcome.refinement.as_ref().unwrap();
+    assert!(r.rounds >= 1, "the main job refines: {r:?}");
+    let table = &html[html.find("<table class=\"growth\">").expect("the growth table")..];
+    let table = &table[..table.find("</table>").unwrap()];
+    let rows: Vec<Vec<&str>> = table
+        .split("<tr><td>")
+        .skip(1)
+        .map(|row| row.split("</td>").map(|c| c.trim_start_matches("<td>")).collect())
+        .collect();
+    assert_eq!(rows.len(), r.rounds + 1);
+    for (k, row) in rows.iter().enumerate() {
+        assert_eq!(row[0], k.to_string());
+        assert_eq!(row[1], r.per_round[k].control_points.to_string());
+    }
+    assert_eq!(rows[0][1], outcome.control_points_before.to_string());
+    assert_eq!(rows.last().unwrap()[1], r.control_points_after.to_string());
+    assert_eq!(r.control_points_after, outcome.control_points_after);
+    // The growth plot is inline SVG: one point per round on the control-point curve.
+    let fig = &html[html.find("<figure class=\"plot\" id=\"growth-plot\"><svg").expect("inline growth plot")..];
+    let fig = &fig[..fig.find("</figure>").unwrap()];
+    assert!(fig.contains("control points per round") && fig.contains("</svg>"));
+    assert!(fig.matches("<circle").count() >= 3 * (r.rounds + 1), "points of the three curves");
+    println!("main job page: {} bytes, {} refinement rounds: {:?}", html.len(), r.rounds, rows);
 }

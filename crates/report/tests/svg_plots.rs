@@ -1,15 +1,16 @@
 //! The blade and mesh SVG plots, checked by reading the SVG back: element counts, legend
 //! strings, and polyline points mapped back through the axis transform to the plotted
-//! values.
+//! values; the PNG plots decoded and checked against the SVG of the same plot.
 
 use cadmorph_blade::{naca, LawParam, NacaOptions, RadialLaw};
 use cadmorph_mesh::format::foam::PolyMesh;
 use cadmorph_mesh::quality::Quality;
 use cadmorph_mesh::{Cell, CellKind};
 use cadmorph_morph::math::Point3;
-use cadmorph_report::histogram::{bin_counts, common_range, histogram_svg, quality_samples};
-use cadmorph_report::profiles::{outline, profiles_svg};
-use cadmorph_report::radial::{radial_law_svg, radial_laws_svg};
+use cadmorph_report::chart::decode_png;
+use cadmorph_report::histogram::{bin_counts, common_range, histogram_png, histogram_svg, quality_samples};
+use cadmorph_report::profiles::{outline, profiles_png, profiles_svg};
+use cadmorph_report::radial::{radial_law_png, radial_law_svg, radial_laws_svg};
 
 /// The value of attribute `name` in the SVG element `el`.
 fn attr<'a>(el: &'a str, name: &str) -> Option<&'a str> {
@@ -211,8 +212,79 @@ fn quality_samples_agree_with_check_mesh() {
         assert_eq!(aspect.len(), 2);
         assert!((aspect.iter().copied().fold(0.0, f64::max) - q.max_aspect_ratio.value).abs() < 1e-9);
         assert!((get("cell volume").iter().sum::<f64>() - q.total_volume).abs() < 1e-12);
+        // Skewness per cell: its largest value is checkMesh's "Max skewness".
+        let skew = get("skewness");
+        assert_eq!(skew.len(), mesh.n_cells());
+        let max_skew = skew.iter().copied().fold(0.0, f64::max);
+        assert!((max_skew - q.max_skewness.value).abs() < 1e-12, "{max_skew} vs {}", q.max_skewness.value);
         if shear > 0.0 {
             assert!(max > 5.0, "the sheared cell is non-orthogonal: {max}");
+            assert!(max_skew > 0.1, "the sheared cells are skew: {max_skew}");
         }
     }
+}
+
+/// Pixels of `rgb` (`w` wide) within 12 of `c` in every channel.
+fn count_near(rgb: &[u8], c: [u8; 3]) -> usize {
+    rgb.chunks(3).filter(|p| (0..3).all(|k| (p[k] as i32 - c[k] as i32).abs() <= 12)).count()
+}
+
+fn hex(c: &str) -> [u8; 3] {
+    let v = |k: usize| u8::from_str_radix(&c[1 + 2 * k..3 + 2 * k], 16).unwrap();
+    [v(0), v(1), v(2)]
+}
+
+/// A PNG histogram is the SVG one in pixels: every bar rectangle the SVG has is filled
+/// with its colour in the PNG (checked at its centre), and the text (caption, labels,
+/// legend) is drawn in dark pixels.
+#[test]
+fn png_histogram_draws_the_bars_of_the_svg() {
+    let before: Vec<f64> = (0..500).map(|i| (i as f64 * 0.37).sin().abs() * 40.0).collect();
+    let after: Vec<f64> = before.iter().map(|v| v * 1.3 + 2.0).collect();
+    let (w, h) = (640, 400);
+    let svg = histogram_svg("skewness", &before, Some(&after), 20, w, h).unwrap();
+    let png = histogram_png("skewness", &before, Some(&after), 20, w, h).unwrap();
+    let (pw, ph, rgb) = decode_png(&png).unwrap();
+    assert_eq!((pw, ph), (w, h));
+    let px = |x: f64, y: f64| {
+        let i = (y as usize * w as usize + x as usize) * 3;
+        [rgb[i], rgb[i + 1], rgb[i + 2]]
+    };
+    let mut checked = 0;
+    for colour in [BLUE, RED] {
+        for r in elements(&svg, "rect").into_iter().filter(|r| attr(r, "fill") == Some(colour)) {
+            let f = |n: &str| attr(r, n).unwrap().parse::<f64>().unwrap();
+            let (x, y, bw, bh) = (f("x"), f("y"), f("width"), f("height"));
+            if bw < 3.0 || bh < 3.0 {
+                continue;
+            }
+            let got = px(x + bw / 2.0, y + bh / 2.0);
+            assert!((0..3).all(|k| (got[k] as i32 - hex(colour)[k] as i32).abs() <= 2), "bar {r}: {got:?}");
+            checked += 1;
+        }
+    }
+    assert!(checked > 20, "{checked} bars checked");
+    let dark = rgb.chunks(3).filter(|c| c.iter().all(|&v| v < 90)).count();
+    assert!(dark > 400, "text and axes drawn: {dark} dark pixels");
+    assert!(histogram_png("x", &[f64::NAN], None, 10, 640, 400).is_err());
+}
+
+/// PNG radial laws and profiles: not blank, both curve colours drawn, text drawn.
+#[test]
+fn png_laws_and_profiles_are_drawn() {
+    let radii: Vec<f64> = (0..12).map(|i| 0.2 + 0.8 * i as f64 / 11.0).collect();
+    let chord: Vec<f64> = radii.iter().map(|r| 0.2 + 0.3 * r - 0.2 * r * r).collect();
+    let law = RadialLaw::fit(LawParam::Chord, &radii, &chord, 3, 6, 0).unwrap();
+    let mut deformed = law.clone();
+    deformed.deform(&[0.0, 0.02, 0.05, 0.03, 0.0, -0.01]).unwrap();
+    let (w, h, rgb) = decode_png(&radial_law_png(&law, Some(&deformed), 640, 420).unwrap()).unwrap();
+    assert_eq!((w, h), (640, 420));
+    assert!(count_near(&rgb, hex(BLUE)) > 300, "original law drawn");
+    assert!(count_near(&rgb, hex(RED)) > 300, "deformed law drawn");
+    assert!(rgb.chunks(3).filter(|c| c.iter().all(|&v| v < 90)).count() > 300, "text drawn");
+    let a = naca("2412", NacaOptions::default()).unwrap();
+    let b = naca("0012", NacaOptions::default()).unwrap();
+    let png = profiles_png("sections", &[("2412".into(), &a), ("0012".into(), &b)], 800, 400).unwrap();
+    let (_, _, rgb) = decode_png(&png).unwrap();
+    assert!(count_near(&rgb, hex(BLUE)) > 300 && count_near(&rgb, hex(RED)) > 300);
 }

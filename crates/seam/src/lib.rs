@@ -45,4 +45,4 @@ pub use error::{Error, Result};
 pub use measure::{measure_boundary, EdgeEnd, EdgeReport, Face, SeamReport, Stat, SHARP_EDGE_DEG};
 pub use refine::{deformed, morph_error, refine_for, refine_uniform, RefineOptions, Refinement, Scope};
 pub use repair::{covers_side, make_compatible, repair, Repair};
-pub use seams_refine::{refine_edges, refine_seams, SeamRefineOptions, SeamRefinement};
+pub use seams_refine::{refine_edges, refine_seams, RefineRound, SeamRefineOptions, SeamRefinement};

@@ -3,7 +3,7 @@
 
 use cadmorph_morph::Deformation;
 use cadmorph_nurbs::{NurbsSurface, Side, Surface};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::measure::side_uv;
 use crate::refine::{deformed, exact_normal, short_directions, well_defined_normal};
@@ -30,8 +30,9 @@ impl SeamRefineOptions {
     }
 }
 
-/// What [`refine_seams`] did.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+/// What [`refine_seams`] did. It reads back from its JSON form (`morph --json`'s
+/// `refinement`); JSON written before `per_round` existed reads with no rounds.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SeamRefinement {
     /// Control points of all patches before.
     pub control_points_before: usize,
@@ -63,6 +64,29 @@ pub struct SeamRefinement {
     pub rounds: usize,
     /// Whether both tolerances were reached.
     pub converged: bool,
+    /// What each round measured, `rounds + 1` entries: round 0 is the input (before any
+    /// knot), round `k` the patches after `k` knot insertions. The last entry is the
+    /// state this report gives (`control_points_after`, `max_gap`, ...), so the entries
+    /// show how the control points grew and the errors fell round by round.
+    pub per_round: Vec<RefineRound>,
+}
+
+/// One round of [`refine_edges`]: the patches' size and the errors of their morph as
+/// that round measured them (the same samples as the final report's numbers).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RefineRound {
+    /// The round: 0 for the input, `k` after `k` knot insertions.
+    pub round: usize,
+    /// Control points of all patches.
+    pub control_points: usize,
+    /// Largest gap after the morph, as [`SeamRefinement::max_gap`].
+    pub max_gap: f64,
+    /// Largest angle after the morph, degrees, as [`SeamRefinement::max_angle_deg`].
+    pub max_angle_deg: f64,
+    /// Largest gap growth, as [`SeamRefinement::max_gap_growth`] (held to `tol`).
+    pub max_gap_growth: f64,
+    /// Largest angle growth, degrees, as [`SeamRefinement::max_angle_growth_deg`].
+    pub max_angle_growth_deg: f64,
 }
 
 /// The input's own matched gap and (unoriented) normal angle along an iso edge, largest
@@ -180,6 +204,7 @@ pub fn refine_edges<D: Deformation + ?Sized>(
     let count = |p: &[NurbsSurface]| p.iter().map(|s| s.control_points().len()).sum::<usize>();
     let before = count(patches);
     let mut rounds = 0;
+    let mut per_round = Vec::new();
     // What each iso edge had before the morph (knots do not change the geometry).
     let input: Vec<(f64, f64)> = edges.iter().map(|e| input_state(patches, e, 201)).collect();
     let input_defects = edges.iter().zip(&input).filter(|(_, (g, a))| *g > opts.tol || *a > opts.angle_tol_deg).count();
@@ -327,6 +352,14 @@ pub fn refine_edges<D: Deformation + ?Sized>(
             }
         }
         let done = gap_growth <= opts.tol && angle_growth <= opts.angle_tol_deg;
+        per_round.push(RefineRound {
+            round: rounds,
+            control_points: count(patches),
+            max_gap,
+            max_angle_deg: max_angle,
+            max_gap_growth: gap_growth,
+            max_angle_growth_deg: angle_growth,
+        });
         let inserts: Vec<(Vec<f64>, Vec<f64>)> = (0..patches.len())
             .map(|i| {
                 let mid = |b: &[f64], m: &[bool]| -> Vec<f64> {
@@ -349,6 +382,7 @@ pub fn refine_edges<D: Deformation + ?Sized>(
                 input_defects,
                 rounds,
                 converged: done,
+                per_round,
             };
         }
         for (s, (xu, xv)) in patches.iter_mut().zip(&inserts) {

@@ -98,6 +98,33 @@ fn seam_refinement_meets_the_target_with_fewer_points_than_uniform() {
     }
 }
 
+/// The per-round records: one per round and the input, control points growing from the
+/// input's count to the final one, the last row the report's own final numbers, and the
+/// gap growth falling below the tolerance exactly in the last round.
+#[test]
+fn refinement_records_every_round() {
+    let ffd = bulge();
+    let tol = 1e-5 * LENGTH;
+    let mut p = mismatched_hull();
+    let edges = edges_of(&p);
+    let before = count(&p);
+    let r = refine_seams(&mut p, &edges, &ffd, &SeamRefineOptions::new(tol, 0.05));
+    assert!(r.converged && r.rounds >= 2, "{r:?}");
+    assert_eq!(r.per_round.len(), r.rounds + 1);
+    assert!(r.per_round.iter().enumerate().all(|(k, x)| x.round == k));
+    assert_eq!(r.per_round[0].control_points, before);
+    assert!(r.per_round.windows(2).all(|w| w[1].control_points > w[0].control_points), "{:?}", r.per_round);
+    let last = r.per_round.last().unwrap();
+    assert_eq!(last.control_points, r.control_points_after);
+    assert_eq!(last.control_points, count(&p));
+    assert_eq!(
+        (last.max_gap, last.max_angle_deg, last.max_gap_growth, last.max_angle_growth_deg),
+        (r.max_gap, r.max_angle_deg, r.max_gap_growth, r.max_angle_growth_deg)
+    );
+    assert!(r.per_round[..r.rounds].iter().all(|x| x.max_gap_growth > tol || x.max_angle_growth_deg > 0.05));
+    assert!(last.max_gap_growth <= tol && last.max_angle_growth_deg <= 0.05, "{last:?}");
+}
+
 /// Without making the knots compatible first, the gap criterion alone also converges
 /// (by refining along the edges), at a higher cost.
 #[test]
