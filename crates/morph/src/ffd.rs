@@ -712,7 +712,9 @@ mod v3 {
                 if bad == usize::MAX {
                     let f: [f64; 4] = pulp::cast(finite);
                     if f.iter().any(|v| *v != 0.0) {
-                        if let Some(q) = sub.iter().position(|p| !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite())) {
+                        if let Some(q) =
+                            sub.iter().position(|p| !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()))
+                        {
                             bad = k * SUB + q;
                         }
                         finite = simd.splat_f64x4(0.0);
