@@ -162,3 +162,47 @@ fn a_failed_write_leaves_nothing() {
     assert_eq!(left.len(), 1, "{left:?}");
     let _ = std::fs::remove_dir_all(d);
 }
+
+/// Found by the `mesh_formats` fuzz target: an empty Gmsh file indexed its first line.
+/// Every single-file reader refuses empty and blank input with an error.
+#[test]
+fn empty_files_are_errors_not_panics() {
+    use cadmorph_mesh::format::{dyna::KeywordFile, elmer::ElmerNodes, mdpa::Mdpa, obj::Obj, vtu::Vtu};
+    for text in ["", "\n", "   \r\n\n"] {
+        let e = Msh::parse(text).unwrap_err();
+        assert!(message(&e).contains("MeshFormat"), "{}", message(&e));
+        let _ = VtkLegacy::parse(text).unwrap_err();
+        let _ = Unv::parse(text);
+        let _ = Obj::parse(text);
+        let _ = KeywordFile::parse(text);
+        let _ = Mdpa::parse(text);
+        let _ = ElmerNodes::parse(text);
+        let _ = Stl::parse(text.as_bytes());
+        let _ = Vtu::parse(text.as_bytes()).unwrap_err();
+    }
+}
+
+/// Found by the `mesh_formats` fuzz target: a base64 block header claiming 2⁶⁴ − 16 bytes
+/// overflowed the length arithmetic (a panic in debug builds). Such counts are refused.
+#[test]
+fn vtu_block_counts_beyond_the_file_are_refused() {
+    use cadmorph_mesh::format::vtu::Vtu;
+    for (compressor, data) in [
+        ("", "8P////////8AAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAA="),
+        (" compressor=\"vtkZLibDataCompressor\"", "AgAAAAAAAADw/////////wgAAAAAAAAA8P////////8="),
+    ] {
+        let xml = format!(
+            r#"<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64"{compressor}>
+<UnstructuredGrid><Piece NumberOfPoints="1" NumberOfCells="0">
+<Points><DataArray type="Float64" NumberOfComponents="3" format="binary">{data}</DataArray></Points>
+<Cells><DataArray type="Int64" Name="connectivity" format="ascii"></DataArray>
+<DataArray type="Int64" Name="offsets" format="ascii"></DataArray>
+<DataArray type="UInt8" Name="types" format="ascii"></DataArray></Cells>
+</Piece></UnstructuredGrid></VTKFile>
+"#
+        );
+        let e = Vtu::parse(xml.as_bytes()).unwrap_err();
+        eprintln!("{}", message(&e));
+    }
+}

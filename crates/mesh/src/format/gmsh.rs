@@ -197,7 +197,8 @@ impl Msh {
             }
         }
         if version.is_empty() {
-            return Err(Error::syntax(1, "a `$MeshFormat` section", line(0)));
+            let first = if ranges.is_empty() { "an empty file" } else { line(0) };
+            return Err(Error::syntax(1, "a `$MeshFormat` section", first));
         }
         check_finite(&points)?;
         let index: HashMap<i64, usize> = tags.iter().enumerate().map(|(i, &t)| (t, i)).collect();

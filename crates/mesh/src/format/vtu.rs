@@ -155,7 +155,10 @@ impl Vtu {
         let mut p = hl;
         for k in 0..nb {
             let cs = sizes[3 + k];
-            let chunk = bin.get(p..p + cs).ok_or_else(|| bad(format!("compressed block {k} of {cs} bytes")))?;
+            let chunk = p
+                .checked_add(cs)
+                .and_then(|end| bin.get(p..end))
+                .ok_or_else(|| bad(format!("compressed block {k} of {cs} bytes")))?;
             flate2::read::ZlibDecoder::new(chunk).read_to_end(&mut out).map_err(|e| bad(format!("zlib: {e}")))?;
             p += cs;
         }
@@ -171,8 +174,13 @@ impl Vtu {
         if !self.compressed {
             let first = dec(take(chars(h).max(8))?)?;
             let n = self.read_uint(&first, 0).ok_or_else(|| bad("a block byte count".into()))?;
+            // Base64 holds three bytes in four characters: a count beyond the text is false.
+            if n > text.len() {
+                return Err(bad(format!("a block of {n} bytes in {} characters of base64", text.len())));
+            }
             let all = dec(take(chars(h + n))?)?;
-            return Ok((all[h..h + n].to_vec(), chars(h + n)));
+            let block = all.get(h..h + n).ok_or_else(|| bad(format!("a block of {n} bytes")))?;
+            return Ok((block.to_vec(), chars(h + n)));
         }
         let first = dec(take(chars(3 * h))?)?;
         let nb = self.read_uint(&first, 0).ok_or_else(|| bad("a compression header".into()))?;
@@ -181,9 +189,12 @@ impl Vtu {
         }
         let hc = chars((3 + nb) * h);
         let header = dec(take(hc)?)?;
-        let total: usize = (0..nb).map(|k| self.read_uint(&header, (3 + k) * h).unwrap_or(0)).sum();
+        let total = (0..nb)
+            .map(|k| self.read_uint(&header, (3 + k) * h).unwrap_or(0))
+            .try_fold(0usize, |a, b| a.checked_add(b).filter(|&t| t <= text.len()))
+            .ok_or_else(|| bad(format!("compressed blocks longer than the {} characters of base64", text.len())))?;
         let data = dec(text.get(hc..hc + chars(total)).ok_or_else(|| bad("base64 data ends early".into()))?)?;
-        let mut joined = header[..(3 + nb) * h].to_vec();
+        let mut joined = header.get(..(3 + nb) * h).ok_or_else(|| bad("a compression header".into()))?.to_vec();
         joined.extend_from_slice(&data);
         let (raw, _) = self.decode_block(&joined, at)?;
         Ok((raw, hc + chars(total)))
