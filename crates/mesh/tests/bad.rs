@@ -206,3 +206,16 @@ fn vtu_block_counts_beyond_the_file_are_refused() {
         eprintln!("{}", message(&e));
     }
 }
+
+/// Found by the `mesh_formats` fuzz target: an MSH 2.2 element record with a huge tag
+/// count overflowed `3 + ntags` (and a negative count would have been read as huge).
+#[test]
+fn msh_tag_counts_the_record_cannot_hold_are_refused() {
+    for ntags in ["9223372036854775807", "-1", "5"] {
+        let text = format!(
+            "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 0 0\n$EndNodes\n$Elements\n1\n1 15 {ntags} 1\n$EndElements\n"
+        );
+        let e = Msh::parse(&text).unwrap_err();
+        assert!(message(&e).contains("ntags"), "{}", message(&e));
+    }
+}

@@ -155,7 +155,9 @@ impl Msh {
                         need(j, "an element record")?;
                         let f: Vec<i64> =
                             line(j).split_whitespace().map(|s| parse_i64(s, j + 1)).collect::<Result<_>>()?;
-                        if f.len() < 3 || f.len() < 3 + f[2].max(0) as usize {
+                        // ntags must be a count the record holds (a negative or huge one is
+                        // malformed, and its sum with the record's start must not overflow).
+                        if f.len() < 3 || f[2] < 0 || f[2] as u64 > (f.len() - 3) as u64 {
                             return Err(Error::syntax(j + 1, "`tag type ntags tags… nodes…`", line(j)));
                         }
                         let nt = f[2] as usize;
