@@ -110,6 +110,20 @@ fn law(arg: &str, what: &str) -> Result<Law> {
     Law::new(&values).with_context(|| what.to_string())
 }
 
+/// The format an output's extension names (checked before any work is done).
+fn output_format(output: &Path) -> Result<cadmorph::Format> {
+    Ok(cadmorph::Format::from_extension(output)
+        .ok_or_else(|| cadmorph::Error::UnknownExtension { path: output.to_path_buf() })?)
+}
+
+/// Writes the morphed model as `format` (converted when that is not its own), staged so a
+/// failed write leaves nothing.
+fn save_as(m: &Model, output: &Path, format: cadmorph::Format) -> Result<()> {
+    let bytes = if format == m.format() { m.to_bytes() } else { cadmorph::convert(m, format)?.to_bytes() };
+    Staged::new(output, &bytes)?.commit()?;
+    Ok(())
+}
+
 /// Runs `cadmorph hull ...`.
 pub fn run(cmd: HullCommand) -> Result<()> {
     match cmd {
@@ -145,8 +159,7 @@ pub fn run(cmd: HullCommand) -> Result<()> {
             Ok(())
         }
         HullCommand::Chine { input, theta, chine_rotation, tol, output, json } => {
-            let format = cadmorph::Format::from_extension(&output)
-                .ok_or_else(|| cadmorph::Error::UnknownExtension { path: output.clone() })?;
+            let format = output_format(&output)?;
             let theta = law(&theta, "--theta")?;
             let phi = chine_rotation.as_deref().map(|a| law(a, "--chine-rotation")).transpose()?;
             let mut m = cadmorph::open(&input)?;
@@ -166,8 +179,7 @@ pub fn run(cmd: HullCommand) -> Result<()> {
                     crate::units::words(m.units().metres_per_unit, m.unit())
                 );
             }
-            let bytes = if format == m.format() { m.to_bytes() } else { cadmorph::convert(&m, format)?.to_bytes() };
-            Staged::new(&output, &bytes)?.commit()?;
+            save_as(&m, &output, format)?;
             if json {
                 let sections: Vec<_> = stations
                     .iter()
@@ -233,8 +245,7 @@ pub fn run(cmd: HullCommand) -> Result<()> {
             output,
             json,
         } => {
-            let format = cadmorph::Format::from_extension(&output)
-                .ok_or_else(|| cadmorph::Error::UnknownExtension { path: output.clone() })?;
+            let format = output_format(&output)?;
             let middle_body = middle_body
                 .map(|t| -> Result<(f64, f64)> {
                     let v: Vec<&str> = t.split(',').collect();
@@ -266,8 +277,7 @@ pub fn run(cmd: HullCommand) -> Result<()> {
                     r.max_gap_after
                 );
             }
-            let bytes = if format == m.format() { m.to_bytes() } else { cadmorph::convert(&m, format)?.to_bytes() };
-            Staged::new(&output, &bytes)?.commit()?;
+            save_as(&m, &output, format)?;
             if json {
                 let mut out = serde_json::to_value(&r)?;
                 out["input"] = input.display().to_string().into();
