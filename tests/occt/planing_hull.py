@@ -132,7 +132,7 @@ def build():
     wire.Add(BRepBuilderAPI_MakeEdge(curve(lambda s: mirror(s[3]))).Edge())
     wire.Add(BRepBuilderAPI_MakeEdge(gp_Pnt(*d0), gp_Pnt(*mirror(d0))).Edge())
     faces.append(BRepBuilderAPI_MakeFace(wire.Wire(), True).Face())
-    sew = BRepBuilderAPI_Sewing(1e-6)
+    sew = BRepBuilderAPI_Sewing(tol)
     for f in faces:
         sew.Add(f)
     sew.Perform()
@@ -204,8 +204,9 @@ def cmd_make(a):
     print(json.dumps({"written": [igs, stp]}))
 
 
-def _solids_or_sewn(shape):
-    """The solids of a shape; a closed shell (IGES faces mode) is sewn and made solid first."""
+def _solids_or_sewn(shape, tol=1e-6):
+    """The solids of a shape; a closed shell (IGES faces mode) is sewn (tolerance `tol`)
+    and made solid first."""
     from OCP.TopExp import TopExp_Explorer
     from OCP.TopAbs import TopAbs_SOLID, TopAbs_FACE
     from OCP.BRepBuilderAPI import BRepBuilderAPI_Sewing, BRepBuilderAPI_MakeSolid
@@ -219,7 +220,7 @@ def _solids_or_sewn(shape):
         ex.Next()
     if solids:
         return solids, False
-    sew = BRepBuilderAPI_Sewing(1e-6)
+    sew = BRepBuilderAPI_Sewing(tol)
     ex = TopExp_Explorer(shape, TopAbs_FACE)
     while ex.More():
         sew.Add(ex.Current())
@@ -247,7 +248,7 @@ def cmd_volume(a):
         print(json.dumps(out))
         return 1
     out["valid"] = bool(BRepCheck_Analyzer(loaded.shape).IsValid())
-    solids, sewn = _solids_or_sewn(loaded.shape)
+    solids, sewn = _solids_or_sewn(loaded.shape, a.sew_tol)
     out["sewn"] = sewn
     out["solids"] = []
     total = 0.0
@@ -259,6 +260,10 @@ def cmd_volume(a):
                               "valid": bool(BRepCheck_Analyzer(s).IsValid())})
         total += p.Mass()
     out["volume"] = total
+    # The area of every face of the shape (sewn or not), adaptive Gauss like the volume.
+    ap = GProp_GProps()
+    out["area_error"] = BRepGProp.SurfaceProperties_s(loaded.shape, ap, 1e-12, True)
+    out["area"] = ap.Mass()
     box = Bnd_Box()
     BRepBndLib.AddOptimal_s(loaded.shape, box, False, False)
     out["bbox"] = list(box.Get())
@@ -305,6 +310,8 @@ def main(argv=None):
     m.add_argument("--out-dir", default=SAMPLES)
     v = sub.add_parser("volume")
     v.add_argument("file")
+    v.add_argument("--sew-tol", type=float, default=1e-6,
+                   help="sewing tolerance for faces that come without a solid (model units)")
     s = sub.add_parser("sections")
     s.add_argument("file")
     s.add_argument("--x", type=float, nargs="+", required=True)

@@ -78,8 +78,8 @@ pub fn status(space: &DesignSpace, manifest: &Manifest) -> Status {
 }
 
 /// One CSV of every variant: id, the parameter values, state, the seam maxima of the
-/// written document, control points, rewritten faces and curves, step times and the
-/// error of failed ones. Pending variants have empty result columns.
+/// written document, control points, rewritten faces and curves, volume and area, step
+/// times and the error of failed ones. Pending variants have empty result columns.
 pub fn collect(space: &DesignSpace, manifest: &Manifest) -> String {
     let mut s = String::from("id");
     for p in &manifest.parameters {
@@ -87,7 +87,7 @@ pub fn collect(space: &DesignSpace, manifest: &Manifest) -> String {
     }
     s.push_str(
         ",state,in_tolerance,max_gap_closest,max_gap_matched,max_g1_angle_deg,max_c1_mismatch,control_points,\
-         faces_rewritten,curves_rewritten,morph_ms,write_ms,verify_ms,total_ms,error\n",
+         faces_rewritten,curves_rewritten,volume,area,morph_ms,write_ms,verify_ms,measure_ms,total_ms,error\n",
     );
     for (v, (state, report)) in manifest.variants.iter().zip(states(space, manifest)) {
         s.push_str(&v.id);
@@ -98,13 +98,16 @@ pub fn collect(space: &DesignSpace, manifest: &Manifest) -> String {
             serde_json::to_value(state).ok().and_then(|x| x.as_str().map(str::to_owned)).unwrap_or_default();
         let _ = write!(s, ",{state_name}");
         match report {
-            None => s.push_str(",,,,,,,,,,,,,\n"),
+            None => s.push_str(",,,,,,,,,,,,,,,,\n"),
             Some(r) => {
                 let seam =
                     |f: fn(&crate::report::Seams) -> f64| r.seams.as_ref().map(|x| num(f(x))).unwrap_or_default();
+                let measure = |f: fn(&crate::report::Measures) -> Option<f64>| {
+                    r.measures.as_ref().and_then(f).map(num).unwrap_or_default()
+                };
                 let _ = write!(
                     s,
-                    ",{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},",
+                    ",{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},",
                     r.in_tolerance,
                     seam(|x| x.max_gap_closest),
                     seam(|x| x.max_gap_matched),
@@ -113,9 +116,12 @@ pub fn collect(space: &DesignSpace, manifest: &Manifest) -> String {
                     r.control_points,
                     r.faces_rewritten,
                     r.curves_rewritten,
+                    measure(|m| m.volume),
+                    measure(|m| m.area),
                     r.timings.morph_ms,
                     r.timings.write_ms,
                     r.timings.verify_ms,
+                    r.timings.measure_ms,
                     r.timings.total_ms
                 );
                 if let Some(e) = &r.error {

@@ -31,6 +31,21 @@ pub struct Seams {
     pub max_c1_mismatch: f64,
 }
 
+/// Volume and surface area of a variant's faces, by `cadmorph_hull::enclosed` (Gauss
+/// quadrature on the faces, the divergence theorem for the volume; agrees with OCCT's
+/// `BRepGProp` to 1e-8 relative or better on the samples).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Measures {
+    /// The enclosed volume, cubic model units; `None` when the faces do not enclose a
+    /// solid the quadrature can measure (an open shell, a face whose curves are off it).
+    pub volume: Option<f64>,
+    /// The area of every face, square model units; `None` when a face cannot be
+    /// measured.
+    pub area: Option<f64>,
+    /// Why they are `None`, when they are.
+    pub note: Option<String>,
+}
+
 /// Wall times of the variant's steps, milliseconds.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Timings {
@@ -40,6 +55,9 @@ pub struct Timings {
     pub write_ms: f64,
     /// Reading the written document back and measuring its seams.
     pub verify_ms: f64,
+    /// Measuring volume and area.
+    #[serde(default)]
+    pub measure_ms: f64,
     /// All of it.
     pub total_ms: f64,
 }
@@ -67,6 +85,9 @@ pub struct Report {
     pub curves_rewritten: usize,
     /// Seams of the written document.
     pub seams: Option<Seams>,
+    /// Volume and area of the morphed faces (`None` for a failed variant).
+    #[serde(default)]
+    pub measures: Option<Measures>,
     /// The campaign's seam gap tolerance, if it has one.
     pub refine_tol: Option<f64>,
     /// The campaign's angle tolerance.

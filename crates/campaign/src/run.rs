@@ -21,7 +21,7 @@ use crate::error::{io, Error, Result};
 use crate::fsutil::{remove_temporaries, write_atomic};
 use crate::manifest::{Manifest, Variant};
 use crate::online::{Base, Basis, Online};
-use crate::report::{Output, Report, Seams, Timings};
+use crate::report::{Measures, Output, Report, Seams, Timings};
 use crate::shard::Shard;
 use crate::space::{sha256_hex, DesignSpace};
 
@@ -222,10 +222,11 @@ impl Prepared {
             faces_rewritten: 0,
             curves_rewritten: 0,
             seams: None,
+            measures: None,
             refine_tol: self.space.settings.refine_tol,
             angle_tol: self.space.settings.angle_tol,
             in_tolerance: false,
-            timings: Timings { morph_ms: 0.0, write_ms: 0.0, verify_ms: 0.0, total_ms: 0.0 },
+            timings: Timings { morph_ms: 0.0, write_ms: 0.0, verify_ms: 0.0, measure_ms: 0.0, total_ms: 0.0 },
         };
         if let Err(e) = self.make_into(variant, dir, &mut report, start) {
             if let Error::Io { .. } = e {
@@ -278,8 +279,23 @@ impl Prepared {
             Some(tol) => s.max_gap_closest <= tol && s.max_g1_angle_deg <= self.space.settings.angle_tol,
             None => true,
         };
-        report.timings.verify_ms = (start.elapsed() - t_write).as_secs_f64() * 1e3;
+        let t_verify = start.elapsed();
+        report.timings.verify_ms = (t_verify - t_write).as_secs_f64() * 1e3;
+        report.measures = Some(measures(&model));
+        report.timings.measure_ms = (start.elapsed() - t_verify).as_secs_f64() * 1e3;
         Ok(())
+    }
+}
+
+/// Volume and area of `model`'s faces (see [`Measures`]).
+fn measures(model: &cadmorph::Model) -> Measures {
+    match cadmorph_hull::enclosed(model.patches(), model.bound_curves(), model.size()) {
+        Ok(e) => Measures { volume: Some(e.total.volume), area: Some(e.total.area), note: None },
+        // An open shell (such as a half hull without its deck) still has an area.
+        Err(e @ cadmorph_hull::Error::OpenShell { area, .. }) => {
+            Measures { volume: None, area: Some(area), note: Some(e.to_string()) }
+        }
+        Err(e) => Measures { volume: None, area: None, note: Some(e.to_string()) },
     }
 }
 

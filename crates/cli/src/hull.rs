@@ -138,6 +138,7 @@ pub fn run(cmd: HullCommand) -> Result<()> {
                     "file": input.display().to_string(),
                     "unit": crate::units::json(m.units().metres_per_unit, m.unit()),
                     "volume": e.total.volume,
+                    "area": e.total.area,
                     "centroid": [c.x, c.y, c.z],
                     "orientation": e.orientation,
                     "methods": e.methods,
@@ -145,10 +146,11 @@ pub fn run(cmd: HullCommand) -> Result<()> {
                 println!("{}", serde_json::to_string_pretty(&out)?);
             } else {
                 println!(
-                    "{}: volume {:.12e} cubic {}, centroid ({:.9}, {:.9}, {:.9}); {} faces ({} planar trimmed)",
+                    "{}: volume {:.12e} cubic {}, area {:.12e} square {2}, centroid ({:.9}, {:.9}, {:.9}); {} faces ({} planar trimmed)",
                     input.display(),
                     e.total.volume,
                     crate::units::words(m.units().metres_per_unit, m.unit()),
+                    e.total.area,
                     c.x,
                     c.y,
                     c.z,

@@ -29,6 +29,20 @@ pub enum Error {
         /// What the divergence theorem gave.
         volume: f64,
     },
+    /// The faces' vector area `∮ n dA` does not vanish, as it does on every closed
+    /// surface: the shell has open borders, and a volume would depend on the origin.
+    #[error(
+        "the faces do not close a solid: their vector area ∮ n dA is ({:.3e}, {:.3e}, {:.3e}), {ratio:.2e} of their area {area:.6e} (a closed shell's is 0); the volume of an open shell is not defined",
+        vector_area[0], vector_area[1], vector_area[2]
+    )]
+    OpenShell {
+        /// `∮ n dA`.
+        vector_area: [f64; 3],
+        /// `∮ dA`.
+        area: f64,
+        /// `|∮ n dA| / ∮ dA`.
+        ratio: f64,
+    },
     /// A constrained morph cannot reach its target.
     #[error(transparent)]
     Constraint(#[from] cadmorph_morph::Error),

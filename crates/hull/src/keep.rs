@@ -80,7 +80,7 @@ pub fn keep(
 ) -> Result<(Ffd, KeepReport)> {
     let base = enclosed(faces, bounds, size)?;
     let by_face = bounds_by_face(faces.len(), bounds);
-    let mut fixed = Moments { volume: 0.0, moment: [0.0; 3] };
+    let mut fixed = Moments::ZERO;
     let mut moving = Vec::new();
     for (i, face) in faces.iter().enumerate() {
         let inside = |p: &nalgebra::Point3<f64>| !ffd.param_weights(p).weights.is_empty();

@@ -112,14 +112,7 @@ fn occt_sections(path: &Path, xs: &[f64]) -> serde_json::Value {
 }
 
 fn occt_valid(path: &Path) -> bool {
-    let out = Command::new(harness::python())
-        .arg(harness::root().join("tests/occt/planing_hull.py"))
-        .arg("volume")
-        .arg(path)
-        .output()
-        .unwrap();
-    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    j["valid"] == true
+    harness::solid_properties(path).valid
 }
 
 type Edge = Vec<[f64; 3]>;

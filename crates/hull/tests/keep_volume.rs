@@ -2,8 +2,6 @@
 //! bow; the kept quantities measured on the morphed faces, and (ignored tests) by OCCT on
 //! the written file.
 
-use std::process::Command;
-
 use cadmorph_hull::{enclosed, keep, Error, Keep};
 use cadmorph_model::{Model, MorphOptions};
 use cadmorph_morph::math::{Point3, Vector3};
@@ -35,15 +33,8 @@ fn bulb() -> (Ffd, Vec<bool>) {
 }
 
 fn occt_volume(path: &std::path::Path) -> (bool, f64, [f64; 3]) {
-    let out = Command::new(harness::python())
-        .arg(harness::root().join("tests/occt/planing_hull.py"))
-        .arg("volume")
-        .arg(path)
-        .output()
-        .unwrap();
-    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let c = &j["solids"][0]["centre"];
-    (j["valid"] == true, j["volume"].as_f64().unwrap(), [0, 1, 2].map(|k| c[k].as_f64().unwrap()))
+    let p = harness::solid_properties(path);
+    (p.valid, p.volume, p.centre)
 }
 
 #[test]

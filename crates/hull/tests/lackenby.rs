@@ -1,8 +1,6 @@
 //! Lackenby-style LCB shift of the planing-hull sample: measured on the morphed faces,
 //! and (ignored test) by OCCT on the written file.
 
-use std::process::Command;
-
 use cadmorph_hull::lcb_shift;
 use cadmorph_model::{Model, MorphOptions};
 use cadmorph_testkit::{harness, sample};
@@ -12,14 +10,8 @@ type StepModel = Model<cadmorph_step::Document>;
 const LENGTH: f64 = 10.0;
 
 fn occt(path: &std::path::Path) -> (bool, f64, f64) {
-    let out = Command::new(harness::python())
-        .arg(harness::root().join("tests/occt/planing_hull.py"))
-        .arg("volume")
-        .arg(path)
-        .output()
-        .unwrap();
-    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    (j["valid"] == true, j["volume"].as_f64().unwrap(), j["solids"][0]["centre"][0].as_f64().unwrap())
+    let p = harness::solid_properties(path);
+    (p.valid, p.volume, p.centre[0])
 }
 
 #[test]

@@ -24,35 +24,32 @@ fn of<D: CadDocument>(m: &Model<D>) -> Enclosed {
     enclosed(m.patches(), m.bound_curves(), m.size()).unwrap()
 }
 
-/// OCCT's volume and centre of mass of the solid in `path`.
-pub fn occt_volume(path: &Path) -> (f64, [f64; 3]) {
-    let out = Command::new(harness::python())
-        .arg(harness::root().join("tests/occt/planing_hull.py"))
-        .arg("volume")
-        .arg(path)
-        .output()
-        .expect("planing_hull.py starts");
-    let json: serde_json::Value = serde_json::from_slice(&out.stdout)
-        .unwrap_or_else(|e| panic!("no JSON ({e}): {}", String::from_utf8_lossy(&out.stderr)));
-    assert_eq!(json["valid"], true, "OCCT finds {} invalid", path.display());
-    let solids = json["solids"].as_array().unwrap();
-    assert_eq!(solids.len(), 1, "{}", path.display());
-    let c = &solids[0]["centre"];
-    (json["volume"].as_f64().unwrap(), [0, 1, 2].map(|k| c[k].as_f64().unwrap()))
+/// OCCT's volume, centre of mass and face area of the solid in `path`.
+pub fn occt_volume(path: &Path) -> (f64, [f64; 3], f64) {
+    let p = harness::solid_properties(path);
+    assert!(p.valid, "OCCT finds {} invalid", path.display());
+    assert_eq!(p.solids, 1, "{}", path.display());
+    (p.volume, p.centre, p.area)
 }
 
 fn compare(path: &Path, rel: f64) -> Enclosed {
     let ours = open(path);
-    let (v, c) = occt_volume(path);
+    let (v, c, a) = occt_volume(path);
     let err = (ours.total.volume - v).abs() / v;
+    let area_err = (ours.total.area - a).abs() / a;
     let centroid = ours.total.centroid();
     eprintln!(
-        "{}: cadmorph {:.15e}, OCCT {:.15e}, relative {err:.2e}; centroid {centroid:?} vs {c:?}",
+        "{}: cadmorph {:.15e}, OCCT {:.15e}, relative {err:.2e}; area {:.15e} vs {a:.15e}, relative {area_err:.2e}; \
+         centroid {centroid:?} vs {c:?}",
         path.display(),
         ours.total.volume,
-        v
+        v,
+        ours.total.area
     );
     assert!(err <= rel, "{}: relative volume difference {err:e}", path.display());
+    // The area integrand |S_u × S_v| is not polynomial, so neither side is exact; both
+    // converge far below this.
+    assert!(area_err <= rel, "{}: relative area difference {area_err:e}", path.display());
     let scale = v.cbrt();
     for k in 0..3 {
         assert!((centroid[k] - c[k]).abs() <= 1e-8 * scale, "centroid {k}: {} vs {}", centroid[k], c[k]);
@@ -64,11 +61,15 @@ fn compare(path: &Path, rel: f64) -> Enclosed {
 /// them again), so that plain `cargo test` checks the integration too.
 #[test]
 fn recorded_occt_volumes() {
-    for (name, occt, planar) in [("planing_hull.stp", 40.41889533333262, 2), ("mixed_solid.stp", 33515.302782352825, 4)]
-    {
+    for (name, occt, occt_area, planar) in [
+        ("planing_hull.stp", 40.41889533333262, 84.49921197609802, 2),
+        ("mixed_solid.stp", 33515.302782352825, 8677.521689895158, 4),
+    ] {
         let e = open(&sample(name));
         let err = (e.total.volume - occt).abs() / occt;
         assert!(err <= 1e-8, "{name}: {} vs OCCT {occt} ({err:e})", e.total.volume);
+        let err = (e.total.area - occt_area).abs() / occt_area;
+        assert!(err <= 1e-10, "{name}: area {} vs OCCT {occt_area} ({err:e})", e.total.area);
         assert_eq!(e.methods.iter().filter(|m| **m == FaceMethod::Planar).count(), planar, "{name}");
     }
 }

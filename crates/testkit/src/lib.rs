@@ -127,6 +127,61 @@ pub mod harness {
         }
         run(&args)
     }
+
+    /// What OCCT measures of a solid (`tests/occt/planing_hull.py volume`).
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct SolidProperties {
+        /// `BRepCheck_Analyzer` finds the shape valid.
+        pub valid: bool,
+        /// `BRepGProp::VolumeProperties` over every solid (sewn from the faces when the
+        /// file has none), Eps 1e-12.
+        pub volume: f64,
+        /// The first solid's centre of mass.
+        pub centre: [f64; 3],
+        /// `BRepGProp::SurfaceProperties` of every face, Eps 1e-12.
+        pub area: f64,
+        /// Solids found or sewn.
+        pub solids: usize,
+    }
+
+    /// OCCT's validity, volume, centre of mass and face area of the shape in `file`
+    /// (faces without a solid sewn at 1e-6 model units).
+    ///
+    /// # Panics
+    ///
+    /// If the script cannot start or does not read the file.
+    pub fn solid_properties(file: &Path) -> SolidProperties {
+        solid_properties_sewn(file, 1e-6)
+    }
+
+    /// [`solid_properties`] sewing faces that come without a solid at `sew_tol` model
+    /// units (for files whose seams are within a looser tolerance).
+    ///
+    /// # Panics
+    ///
+    /// As [`solid_properties`].
+    pub fn solid_properties_sewn(file: &Path, sew_tol: f64) -> SolidProperties {
+        let out = Command::new(python())
+            .arg(root().join("tests/occt/planing_hull.py"))
+            .arg("volume")
+            .arg(file)
+            .arg("--sew-tol")
+            .arg(sew_tol.to_string())
+            .output()
+            .expect("planing_hull.py starts");
+        let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+            panic!("planing_hull.py volume {}: no JSON ({e}): {}", file.display(), String::from_utf8_lossy(&out.stderr))
+        });
+        let f = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{}: not a number in {j}", file.display()));
+        let c = &j["solids"][0]["centre"];
+        SolidProperties {
+            valid: j["valid"] == true,
+            volume: f(&j["volume"]),
+            centre: if c.is_null() { [f64::NAN; 3] } else { [0, 1, 2].map(|k| f(&c[k])) },
+            area: f(&j["area"]),
+            solids: j["solids"].as_array().map_or(0, Vec::len),
+        }
+    }
 }
 
 /// The surface of the side-by-side NURBS benchmark (`benches/occt/README.md`): degree
