@@ -141,6 +141,7 @@ pub fn run(cmd: HullCommand) -> Result<()> {
                     "area": e.total.area,
                     "centroid": [c.x, c.y, c.z],
                     "orientation": e.orientation,
+                    "turned": e.turned.iter().map(|&i| m.patches()[i].entity.to_string()).collect::<Vec<_>>(),
                     "methods": e.methods,
                 });
                 println!("{}", serde_json::to_string_pretty(&out)?);
@@ -157,6 +158,13 @@ pub fn run(cmd: HullCommand) -> Result<()> {
                     e.methods.len(),
                     e.methods.iter().filter(|k| **k == cadmorph_hull::FaceMethod::Planar).count()
                 );
+                if !e.turned.is_empty() {
+                    println!(
+                        "  {} faces carry no orientation the shell agrees with and were turned to close it: {}",
+                        e.turned.len(),
+                        e.turned.iter().map(|&i| m.patches()[i].entity.to_string()).collect::<Vec<_>>().join(", ")
+                    );
+                }
             }
             Ok(())
         }

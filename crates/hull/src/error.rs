@@ -29,10 +29,11 @@ pub enum Error {
         /// What the divergence theorem gave.
         volume: f64,
     },
-    /// The faces' vector area `∮ n dA` does not vanish, as it does on every closed
-    /// surface: the shell has open borders, and a volume would depend on the origin.
+    /// The faces' vector area `∮ n dA` does not vanish, nor `∮ x ⊗ n dA − V I`, as on
+    /// every closed, consistently oriented surface, whatever faces are turned: the shell
+    /// has open borders, and a volume would depend on the origin.
     #[error(
-        "the faces do not close a solid: their vector area ∮ n dA is ({:.3e}, {:.3e}, {:.3e}), {ratio:.2e} of their area {area:.6e} (a closed shell's is 0); the volume of an open shell is not defined",
+        "the faces do not close a solid: their vector area ∮ n dA is ({:.3e}, {:.3e}, {:.3e}), and the closure residual {ratio:.2e} relative to their area {area:.6e} (0 on a closed shell, however its faces are oriented); the volume of an open shell is not defined",
         vector_area[0], vector_area[1], vector_area[2]
     )]
     OpenShell {
@@ -40,7 +41,8 @@ pub enum Error {
         vector_area: [f64; 3],
         /// `∮ dA`.
         area: f64,
-        /// `|∮ n dA| / ∮ dA`.
+        /// The closure residual (`|∮ n dA| / A` plus the relative deviation of
+        /// `∮ x ⊗ n dA` from a multiple of `I`), after the best turning of faces.
         ratio: f64,
     },
     /// A constrained morph cannot reach its target.

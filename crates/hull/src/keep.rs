@@ -20,7 +20,7 @@ use cadmorph_morph::{Deformation, Ffd, LinearInParameters};
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use crate::volume::{bounds_by_face, enclosed, face_sign, natural_gradients, natural_moments, FaceMethod, Moments};
+use crate::volume::{bounds_by_face, enclosed, natural_gradients, natural_moments, FaceMethod, Moments};
 use crate::{Error, Result};
 
 /// What to keep.
@@ -86,7 +86,7 @@ pub fn keep(
         let inside = |p: &nalgebra::Point3<f64>| !ffd.param_weights(p).weights.is_empty();
         match base.methods[i] {
             // Trimmed faces keep their share only while the FFD leaves them alone.
-            FaceMethod::Planar | FaceMethod::Trimmed => {
+            FaceMethod::Planar | FaceMethod::Trimmed | FaceMethod::Rectangle(_) => {
                 let touched = face.surface.control_points().iter().any(inside)
                     || by_face[i].iter().any(|b| b.curve.control_points().iter().any(inside));
                 if touched {
@@ -105,7 +105,7 @@ pub fn keep(
                         fixed.moment[k] += base.faces[i].moment[k];
                     }
                 } else {
-                    moving.push(Moving { face: i, sign: face_sign(face) * base.orientation, weights });
+                    moving.push(Moving { face: i, sign: base.signs[i], weights });
                 }
             }
         }

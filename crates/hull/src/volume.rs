@@ -41,7 +41,7 @@ use crate::gauss::gauss_legendre;
 use crate::{Error, Result};
 
 /// How a face's share of the enclosed integrals is computed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub enum FaceMethod {
     /// Over the whole parameter domain of its surface.
     Natural,
@@ -50,6 +50,10 @@ pub enum FaceMethod {
     /// Green's theorem in its surface's parameters along the preimages of its bounding
     /// curves (a curved face trimmed inside its surface).
     Trimmed,
+    /// Over a box `[u0, u1, v0, v1]` of its surface's parameters: a face bounded by
+    /// iso-parameter lines (a cylinder or cone between two circles, whose loops close
+    /// only across the periodic seam), see `iso_box`.
+    Rectangle([f64; 4]),
 }
 
 /// Volume and first moments of an enclosed solid (or one face's share of them), and the
@@ -66,6 +70,9 @@ pub struct Moments {
     /// `∮ n dA`, the vector area: zero on a closed surface (the divergence theorem for a
     /// constant field), so the volume does not depend on the origin.
     pub vector_area: [f64; 3],
+    /// `∮ x_j n_k dA` (row `j`, column `k`): `V·I` on a closed, consistently oriented
+    /// surface (the divergence theorem for the field `x_j e_k`).
+    pub flux: [[f64; 3]; 3],
 }
 
 impl Moments {
@@ -75,13 +82,17 @@ impl Moments {
     }
 
     /// Nothing: the start of a sum.
-    pub const ZERO: Moments = Moments { volume: 0.0, moment: [0.0; 3], area: 0.0, vector_area: [0.0; 3] };
+    pub const ZERO: Moments =
+        Moments { volume: 0.0, moment: [0.0; 3], area: 0.0, vector_area: [0.0; 3], flux: [[0.0; 3]; 3] };
 
     fn add(&mut self, o: &Moments) {
         self.volume += o.volume;
         self.area += o.area;
         for k in 0..3 {
             self.vector_area[k] += o.vector_area[k];
+            for j in 0..3 {
+                self.flux[j][k] += o.flux[j][k];
+            }
         }
         for k in 0..3 {
             self.moment[k] += o.moment[k];
@@ -94,6 +105,7 @@ impl Moments {
             moment: self.moment.map(|m| s * m),
             area: s.abs() * self.area,
             vector_area: self.vector_area.map(|a| s * a),
+            flux: self.flux.map(|row| row.map(|f| s * f)),
         }
     }
 }
@@ -111,6 +123,12 @@ pub struct Enclosed {
     /// `+1` when the faces' own orientation points outward, `−1` when the shell was
     /// oriented inward (every share then flips).
     pub orientation: f64,
+    /// Faces whose orientation was turned to close the shell consistently (IGES faces
+    /// without a B-rep carry none; see `orient`).
+    pub turned: Vec<usize>,
+    /// Per face, the factor turning its `S_u × S_v` outward (its `reversed` flag, the
+    /// turning and the orientation together).
+    pub signs: Vec<f64>,
 }
 
 /// Nodes per knot span and sub-intervals per span for a direction of degree `p`.
@@ -122,19 +140,86 @@ fn rule(p: usize, rational: bool) -> (usize, usize) {
     }
 }
 
-/// [`rule`] for the area integrand `|S_u × S_v|`, which is not polynomial: more nodes on
-/// more sub-intervals (on the samples' faces this agrees with OCCT's adaptive
-/// `BRepGProp::SurfaceProperties` at Eps 1e-13 to 1e-12 relative, where [`rule`] was
-/// off by up to 4e-6).
-fn area_rule(p: usize, rational: bool) -> (usize, usize) {
-    if rational {
-        (AREA_NODES.max(2 * p + 6), 2 * AREA_SPLIT)
-    } else {
-        (AREA_NODES.max(2 * p + 2), AREA_SPLIT)
-    }
+/// Gauss nodes per direction for the area integrand `|S_u × S_v|` on a span of degree
+/// `p`: it is not polynomial, so [`adaptive_area`] checks each span against its four
+/// quarters and splits where they differ.
+fn area_nodes(p: usize) -> usize {
+    p + 3
 }
-const AREA_NODES: usize = 10;
-const AREA_SPLIT: usize = 4;
+
+/// Relative agreement of a span's area with the sum of its quarters' at which the
+/// quarters are taken (on the samples' faces the areas then agree with OCCT's adaptive
+/// `BRepGProp::SurfaceProperties` at Eps 1e-13 to about 1e-12 relative; a fixed rule of
+/// `2p + 1` nodes was off by up to 4e-6 next to degenerate edges).
+const AREA_TOL: f64 = 1e-13;
+
+/// The deepest quartering of a span.
+const AREA_DEPTH: usize = 6;
+
+/// `∫∫ f` over the box `b` by a tensor Gauss rule of `n = (nu, nv)` nodes, refined
+/// adaptively: each box is compared with its four quarters and split while they differ
+/// by more than [`AREA_TOL`] (relative), to [`AREA_DEPTH`] levels.
+fn adaptive_area(f: &dyn Fn(f64, f64) -> f64, b: [f64; 4], n: (usize, usize)) -> f64 {
+    let gu = gauss_legendre(n.0, 0.0, 1.0);
+    let gv = gauss_legendre(n.1, 0.0, 1.0);
+    let quad = |b: [f64; 4]| -> f64 {
+        let (du, dv) = (b[1] - b[0], b[3] - b[2]);
+        let mut acc = 0.0;
+        for &(x, wx) in &gu {
+            for &(y, wy) in &gv {
+                acc += wx * wy * f(b[0] + x * du, b[2] + y * dv);
+            }
+        }
+        acc * du * dv
+    };
+    fn go(quad: &dyn Fn([f64; 4]) -> f64, b: [f64; 4], whole: f64, depth: usize) -> f64 {
+        let (um, vm) = (0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]));
+        let parts = [[b[0], um, b[2], vm], [um, b[1], b[2], vm], [b[0], um, vm, b[3]], [um, b[1], vm, b[3]]];
+        let q = parts.map(quad);
+        let sum: f64 = q.iter().sum();
+        if depth == 0 || (sum - whole).abs() <= AREA_TOL * sum.abs() {
+            return sum;
+        }
+        parts.iter().zip(q).map(|(p, qp)| go(quad, *p, qp, depth - 1)).sum()
+    }
+    go(&quad, b, quad(b), AREA_DEPTH)
+}
+
+/// `∫ f` over `[a, b]` by `n` Gauss nodes, halved adaptively as [`adaptive_area`].
+fn adaptive_line(f: &dyn Fn(f64) -> f64, a: f64, b: f64, n: usize) -> f64 {
+    let g = gauss_legendre(n, 0.0, 1.0);
+    let quad = |a: f64, b: f64| g.iter().map(|&(x, w)| w * f(a + x * (b - a))).sum::<f64>() * (b - a);
+    fn go(quad: &dyn Fn(f64, f64) -> f64, a: f64, b: f64, whole: f64, depth: usize) -> f64 {
+        let m = 0.5 * (a + b);
+        let (l, r) = (quad(a, m), quad(m, b));
+        if depth == 0 || (l + r - whole).abs() <= AREA_TOL * (l + r).abs() {
+            return l + r;
+        }
+        go(quad, a, m, l, depth - 1) + go(quad, m, b, r, depth - 1)
+    }
+    go(&quad, a, b, quad(a, b), 2 * AREA_DEPTH)
+}
+
+/// The area of the box `b` of `s`, span by span.
+fn box_area(s: &NurbsSurface, b: [f64; 4]) -> f64 {
+    let cuts = |knots: Vec<f64>, lo: f64, hi: f64| {
+        let mut c = vec![lo];
+        c.extend(knots.into_iter().filter(|&k| k > lo && k < hi));
+        c.push(hi);
+        c
+    };
+    let uc = cuts(s.u_knots().distinct().0, b[0], b[1]);
+    let vc = cuts(s.v_knots().distinct().0, b[2], b[3]);
+    let n = (area_nodes(s.u_degree()), area_nodes(s.v_degree()));
+    let f = |u: f64, v: f64| area_density(s, u, v);
+    let mut total = 0.0;
+    for us in uc.windows(2) {
+        for vs in vc.windows(2) {
+            total += adaptive_area(&f, [us[0], us[1], vs[0], vs[1]], n);
+        }
+    }
+    total
+}
 
 /// `(parameter, weight)` pairs covering `[lo, hi]` span by span.
 fn span_rule(breaks: &[f64], lo: f64, hi: f64, n: usize, split: usize) -> Vec<(f64, f64)> {
@@ -155,13 +240,19 @@ fn span_rule(breaks: &[f64], lo: f64, hi: f64, n: usize, split: usize) -> Vec<(f
 /// Quadrature over the whole domain of `s`: `(u, v, weight)`, each direction by `rule`.
 fn surface_rule_by(s: &NurbsSurface, rule: fn(usize, bool) -> (usize, usize)) -> Vec<(f64, f64, f64)> {
     let (ud, vd) = s.domain();
+    box_rule(s, [*ud.start(), *ud.end(), *vd.start(), *vd.end()], rule)
+}
+
+/// Quadrature over the parameter box `[u0, u1] × [v0, v1]` of `s`, each direction by
+/// `rule` on every knot span inside the box.
+fn box_rule(s: &NurbsSurface, b: [f64; 4], rule: fn(usize, bool) -> (usize, usize)) -> Vec<(f64, f64, f64)> {
     let r = s.is_rational();
     let (nu, su) = rule(s.u_degree(), r);
     let (nv, sv) = rule(s.v_degree(), r);
     let uk = s.u_knots().distinct().0;
     let vk = s.v_knots().distinct().0;
-    let ur = span_rule(&uk, *ud.start(), *ud.end(), nu, su);
-    let vr = span_rule(&vk, *vd.start(), *vd.end(), nv, sv);
+    let ur = span_rule(&uk, b[0], b[1], nu, su);
+    let vr = span_rule(&vk, b[2], b[3], nv, sv);
     let mut out = Vec::with_capacity(ur.len() * vr.len());
     for &(u, wu) in &ur {
         for &(v, wv) in &vr {
@@ -185,8 +276,15 @@ fn surface_rule(s: &NurbsSurface) -> Vec<(f64, f64, f64)> {
 /// The share of a natural face (whole domain), with `sign` = ±1 turning `S_u × S_v` into
 /// the outward normal.
 pub fn natural_moments(s: &NurbsSurface, sign: f64) -> Moments {
+    let (ud, vd) = s.domain();
+    box_moments(s, [*ud.start(), *ud.end(), *vd.start(), *vd.end()], sign)
+}
+
+/// The share of a face that is the parameter box `b = [u0, u1, v0, v1]` of its surface
+/// (exact as for natural faces: the box's sides fall on knot spans' parts).
+pub fn box_moments(s: &NurbsSurface, b: [f64; 4], sign: f64) -> Moments {
     let mut m = Moments::ZERO;
-    for (u, v, w) in surface_rule(s) {
+    for (u, v, w) in box_rule(s, b, rule) {
         let d = s.eval_d1(u, v);
         let n = d.du.cross(&d.dv) * (sign * w);
         let x = d.point.coords;
@@ -194,9 +292,12 @@ pub fn natural_moments(s: &NurbsSurface, sign: f64) -> Moments {
         for k in 0..3 {
             m.moment[k] += 0.5 * x[k] * x[k] * n[k];
             m.vector_area[k] += n[k];
+            for j in 0..3 {
+                m.flux[j][k] += x[j] * n[k];
+            }
         }
     }
-    m.area = surface_rule_by(s, area_rule).into_iter().map(|(u, v, w)| area_density(s, u, v) * w).sum();
+    m.area = box_area(s, b);
     m
 }
 
@@ -318,11 +419,11 @@ fn loops<'a>(face: &Face, bounds: &[&'a BoundCurve], tol: f64) -> Result<Vec<Vec
     Ok(out)
 }
 
-/// `∮ P_f dt` along one loop for `f = 1, x², y², z²` in plane coordinates
-/// `x = o + s e1 + t e2`, and the loop's signed area `∮ s dt`.
-fn loop_integrals(lp: &[Piece], o: &Point3<f64>, e1: &Vector3<f64>, e2: &Vector3<f64>) -> [f64; 4] {
+/// `∮ P_f dt` along one loop for `f = 1, x², y², z², s, t` in plane coordinates
+/// `x = o + s e1 + t e2` (the first is the loop's signed area `∮ s dt`).
+fn loop_integrals(lp: &[Piece], o: &Point3<f64>, e1: &Vector3<f64>, e2: &Vector3<f64>) -> [f64; 6] {
     let inner = gauss_legendre(3, 0.0, 1.0);
-    let mut acc = [0.0; 4];
+    let mut acc = [0.0; 6];
     for piece in lp {
         let c = &piece.curve.curve;
         let (n, split) = rule(c.degree(), c.is_rational());
@@ -336,15 +437,17 @@ fn loop_integrals(lp: &[Piece], o: &Point3<f64>, e1: &Vector3<f64>, e2: &Vector3
             let rel = d[0] - o.coords;
             let (s, t) = (rel.dot(e1), rel.dot(e2));
             let dt = d[1].dot(e2) * w * sense;
-            let mut p = [0.0; 4];
+            let mut p = [0.0; 6];
             for &(sig, ws) in &inner {
                 let x = o.coords + e1 * (s * sig) + e2 * t;
                 p[0] += ws;
                 for k in 0..3 {
                     p[k + 1] += ws * x[k] * x[k];
                 }
+                p[4] += ws * s * sig;
+                p[5] += ws * t;
             }
-            for k in 0..4 {
+            for k in 0..6 {
                 acc[k] += s * p[k] * dt;
             }
         }
@@ -367,12 +470,12 @@ fn planar_moments(
     };
     let e2 = n.cross(&e1);
     let lps = loops(face, bounds, tol)?;
-    let ints: Vec<[f64; 4]> = lps.iter().map(|lp| loop_integrals(lp, &o, &e1, &e2)).collect();
+    let ints: Vec<[f64; 6]> = lps.iter().map(|lp| loop_integrals(lp, &o, &e1, &e2)).collect();
     let outer = (0..ints.len()).max_by(|&a, &b| ints[a][0].abs().total_cmp(&ints[b][0].abs())).unwrap_or(0);
-    let mut region = [0.0; 4];
+    let mut region = [0.0; 6];
     for (i, int) in ints.iter().enumerate() {
         let s = if i == outer { int[0].signum() } else { -int[0].signum() };
-        for k in 0..4 {
+        for k in 0..6 {
             region[k] += s * int[k];
         }
     }
@@ -382,6 +485,11 @@ fn planar_moments(
         moment: [0.5 * nout.x * region[1], 0.5 * nout.y * region[2], 0.5 * nout.z * region[3]],
         area: region[0].abs(),
         vector_area: [0, 1, 2].map(|k| nout[k] * region[0]),
+        // ∫ x_j dA = o_j A + e1_j ∫ s dA + e2_j ∫ t dA.
+        flux: [0, 1, 2].map(|j| {
+            let xj = o.coords[j] * region[0] + e1[j] * region[4] + e2[j] * region[5];
+            [0, 1, 2].map(|k| xj * nout[k])
+        }),
     })
 }
 
@@ -395,10 +503,10 @@ fn trimmed_moments(face: &Face, bounds: &[&BoundCurve], sign: f64, size: f64) ->
     let (u0, u1) = (*ud.start(), *ud.end());
     let uk = s.u_knots().distinct().0;
     let (nu, su) = rule(s.u_degree(), s.is_rational());
-    let (nau, sau) = area_rule(s.u_degree(), s.is_rational());
-    // P(u, v) for f = x·n/3, x_k² n_k / 2, |n| and n_k.
-    let inner = |u: f64, v: f64| -> [f64; 8] {
-        let mut p = [0.0; 8];
+    let nau = area_nodes(s.u_degree());
+    // P(u, v) for f = x·n/3, x_k² n_k / 2, |n|, n_k and x_j n_k.
+    let inner = |u: f64, v: f64| -> [f64; 17] {
+        let mut p = [0.0; 17];
         if u <= u0 {
             return p;
         }
@@ -410,20 +518,26 @@ fn trimmed_moments(face: &Face, bounds: &[&BoundCurve], sign: f64, size: f64) ->
             for k in 0..3 {
                 p[k + 1] += 0.5 * x[k] * x[k] * n[k];
                 p[k + 5] += n[k];
+                for j in 0..3 {
+                    p[8 + 3 * j + k] += x[j] * n[k];
+                }
             }
         }
-        for (sig, w) in span_rule(&uk, u0, u, nau, sau) {
-            p[4] += area_density(s, sig, v) * w;
+        let mut lo = u0;
+        for k in uk.iter().copied().filter(|&k| k > u0 && k < u).chain(std::iter::once(u)) {
+            p[4] += adaptive_line(&|sig| area_density(s, sig, v), lo, k, nau);
+            lo = k;
         }
         p
     };
     let tol = 1e-6 * size;
     let lps = loops(face, bounds, tol)?;
-    let mut ints: Vec<([f64; 8], f64)> = Vec::with_capacity(lps.len());
+    let mut ints: Vec<([f64; 17], f64)> = Vec::with_capacity(lps.len());
     for lp in &lps {
-        let mut acc = [0.0; 8];
+        let mut acc = [0.0; 17];
         let mut area = 0.0;
         let mut last: Option<(f64, f64)> = None;
+        let mut first: Option<(f64, f64)> = None;
         for piece in lp {
             let c = &piece.curve.curve;
             let knots = c.knots().distinct().0;
@@ -447,6 +561,7 @@ fn trimmed_moments(face: &Face, bounds: &[&BoundCurve], sign: f64, size: f64) ->
                     }
                 }
                 last = Some((pr.u, pr.v));
+                first = first.or(last);
                 let sd = s.eval_d1(pr.u, pr.v);
                 // C' = S_u u' + S_v v', least squares.
                 let (a11, a12, a22) = (sd.du.dot(&sd.du), sd.du.dot(&sd.dv), sd.dv.dot(&sd.dv));
@@ -457,10 +572,19 @@ fn trimmed_moments(face: &Face, bounds: &[&BoundCurve], sign: f64, size: f64) ->
                 }
                 let dv = (a11 * b2 - a12 * b1) / det * w * sense;
                 let p = inner(pr.u, pr.v);
-                for k in 0..8 {
+                for k in 0..17 {
                     acc[k] += p[k] * dv;
                 }
                 area += (pr.u - u0) * dv;
+            }
+        }
+        // A loop closed in space whose preimage does not close crosses the seam of a
+        // periodic surface: Green's theorem does not hold along it.
+        if let (Some(a), Some(b)) = (first, last) {
+            let (ud, vd) = s.domain();
+            if (a.0 - b.0).abs() > 0.25 * (ud.end() - ud.start()) || (a.1 - b.1).abs() > 0.25 * (vd.end() - vd.start())
+            {
+                return Err(refuse());
             }
         }
         ints.push((acc, area));
@@ -473,11 +597,99 @@ fn trimmed_moments(face: &Face, bounds: &[&BoundCurve], sign: f64, size: f64) ->
         for k in 0..3 {
             m.moment[k] += o * acc[k + 1];
             m.vector_area[k] += o * acc[k + 5];
+            for j in 0..3 {
+                m.flux[j][k] += o * acc[8 + 3 * j + k];
+            }
         }
         m.area += o * acc[4];
     }
     m.area = m.area.abs();
     Ok(m)
+}
+
+/// Whether `s` closes on itself in u (`dir` 0) or v (`dir` 1): its first and last
+/// iso-lines in that direction coincide (sampled, to `tol`).
+fn closes(s: &NurbsSurface, dir: usize, tol: f64) -> bool {
+    let (ud, vd) = s.domain();
+    let (a, b) = if dir == 0 { (ud, vd) } else { (vd, ud) };
+    (0..7).all(|k| {
+        let t = b.start() + (b.end() - b.start()) * k as f64 / 6.0;
+        let (p, q) = if dir == 0 {
+            (s.eval(*a.start(), t), s.eval(*a.end(), t))
+        } else {
+            (s.eval(t, *a.start()), s.eval(t, *a.end()))
+        };
+        (p - q).norm() <= tol
+    })
+}
+
+/// The parameter box a face's bounding curves bound when every one of them is an
+/// iso-parameter line of its surface (sampled; degenerate curves, such as a cone's apex,
+/// are left out). On a surface that closes in a direction, the seam line is the only
+/// line of that direction the face may have: it then spans the whole period.
+fn iso_box(face: &Face, bounds: &[&BoundCurve], size: f64) -> Option<[f64; 4]> {
+    const N: usize = 9;
+    let s = &face.surface;
+    let (ud, vd) = s.domain();
+    let dom = [*ud.start(), *ud.end(), *vd.start(), *vd.end()];
+    let tol = [1e-7 * (dom[1] - dom[0]), 1e-7 * (dom[3] - dom[2])];
+    let closed = [closes(s, 0, 1e-9 * size), closes(s, 1, 1e-9 * size)];
+    // Iso values per direction, and the extent of the other lines along it.
+    let mut lines: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
+    let mut extent = [(f64::INFINITY, f64::NEG_INFINITY); 2];
+    for b in bounds {
+        let pts: Vec<Point3<f64>> =
+            (0..N).map(|k| b.curve.eval(b.range.0 + (b.range.1 - b.range.0) * (k as f64 + 0.5) / N as f64)).collect();
+        if pts.iter().all(|p| (p - pts[0]).norm() <= 1e-9 * size) {
+            continue;
+        }
+        let mut uv = Vec::with_capacity(N);
+        for p in &pts {
+            let pr = s.project(p, 1e-10 * size);
+            if pr.distance_sq.sqrt() > 1e-6 * size {
+                return None;
+            }
+            let mut q = [pr.u, pr.v];
+            for d in 0..2 {
+                // A point on a closed direction's seam may project to either end.
+                if closed[d] && (q[d] - dom[2 * d + 1]).abs() <= tol[d] {
+                    q[d] = dom[2 * d];
+                }
+            }
+            uv.push(q);
+        }
+        let span =
+            |d: usize| uv.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), q| (lo.min(q[d]), hi.max(q[d])));
+        let (su, sv) = (span(0), span(1));
+        if su.1 - su.0 <= tol[0] {
+            lines[0].push(0.5 * (su.0 + su.1));
+            extent[1] = (extent[1].0.min(sv.0), extent[1].1.max(sv.1));
+        } else if sv.1 - sv.0 <= tol[1] {
+            lines[1].push(0.5 * (sv.0 + sv.1));
+            extent[0] = (extent[0].0.min(su.0), extent[0].1.max(su.1));
+        } else {
+            return None;
+        }
+    }
+    let mut out = [0.0; 4];
+    for d in 0..2 {
+        let (lo, hi) = lines[d].iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
+        let (a, b) = if hi - lo > tol[d] {
+            (lo, hi)
+        } else if closed[d] && (lo - dom[2 * d]).abs() <= tol[d] || closed[d] && lines[d].is_empty() {
+            // Only the seam (or no line at all): the face goes once around.
+            (dom[2 * d], dom[2 * d + 1])
+        } else {
+            return None;
+        };
+        // The other direction's lines must run inside the box.
+        if extent[d].0 < a - tol[d] || extent[d].1 > b + tol[d] {
+            return None;
+        }
+        out[2 * d] = a;
+        out[2 * d + 1] = b;
+    }
+    Some(out)
 }
 
 /// Whether every bounding curve of a face lies on its surface (sampled).
@@ -497,6 +709,8 @@ pub fn face_method(face: &Face, bounds: &[&BoundCurve], size: f64) -> Result<Fac
         Ok(FaceMethod::Natural)
     } else if plane_of(&face.surface).is_some() {
         Ok(FaceMethod::Planar)
+    } else if let Some(b) = iso_box(face, bounds, size) {
+        Ok(FaceMethod::Rectangle(b))
     } else if curves_on_surface(face, bounds, size) {
         Ok(FaceMethod::Trimmed)
     } else {
@@ -566,8 +780,13 @@ pub fn enclosed_with(faces: &[Face], bounds: &[BoundCurve], size: f64, methods: 
                 planar_moments(face, fb, o, n, sign, 1e-6 * size)?
             }
             FaceMethod::Trimmed => trimmed_moments(face, fb, sign, size)?,
+            FaceMethod::Rectangle(b) => box_moments(&face.surface, *b, sign),
         };
         shares.push(share);
+    }
+    let turned = orient(&shares, size)?;
+    for &i in &turned {
+        shares[i] = shares[i].scaled(-1.0);
     }
     let mut total = Moments::ZERO;
     for s in &shares {
@@ -576,17 +795,93 @@ pub fn enclosed_with(faces: &[Face], bounds: &[BoundCurve], size: f64, methods: 
     if total.volume.is_nan() || total.volume.abs() <= 1e-12 * size.powi(3) {
         return Err(Error::NotClosed { volume: total.volume });
     }
-    let va = Vector3::from(total.vector_area).norm();
-    if !(va <= CLOSED_VECTOR_AREA * total.area) {
-        return Err(Error::OpenShell { vector_area: total.vector_area, area: total.area, ratio: va / total.area });
-    }
     let orientation = total.volume.signum();
+    let signs = faces
+        .iter()
+        .enumerate()
+        .map(|(i, f)| face_sign(f) * orientation * if turned.contains(&i) { -1.0 } else { 1.0 })
+        .collect();
     Ok(Enclosed {
         total: total.scaled(orientation),
         methods: methods.to_vec(),
         faces: shares.iter().map(|s| s.scaled(orientation)).collect(),
         orientation,
+        turned,
+        signs,
     })
+}
+
+/// The closure residual of a sum of shares: `|∮ n dA| / A + ‖∮ x ⊗ n dA − (tr/3) I‖ / (A L)`,
+/// zero on a closed, consistently oriented shell.
+fn closure_residual(sum: &[f64; 12], area: f64, size: f64) -> f64 {
+    let va = (sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]).sqrt();
+    let tr = (sum[3] + sum[7] + sum[11]) / 3.0;
+    let mut off = 0.0;
+    for j in 0..3 {
+        for k in 0..3 {
+            let d = sum[3 + 3 * j + k] - if j == k { tr } else { 0.0 };
+            off += d * d;
+        }
+    }
+    va / area + off.sqrt() / (area * size)
+}
+
+/// The faces whose orientation must turn for the shell to close consistently (none
+/// when the file's orientations already do), found by turning, one at a time, the face
+/// that lowers [`closure_residual`] most (a face turned changes the sums by twice its
+/// share, and IGES faces without a B-rep carry no orientation at all).
+///
+/// # Errors
+///
+/// [`Error::OpenShell`] when no turning closes the shell to [`CLOSED_VECTOR_AREA`].
+fn orient(shares: &[Moments], size: f64) -> Result<Vec<usize>> {
+    let vecs: Vec<[f64; 12]> = shares
+        .iter()
+        .map(|m| {
+            let mut v = [0.0; 12];
+            v[..3].copy_from_slice(&m.vector_area);
+            for j in 0..3 {
+                v[3 + 3 * j..6 + 3 * j].copy_from_slice(&m.flux[j]);
+            }
+            v
+        })
+        .collect();
+    let area: f64 = shares.iter().map(|m| m.area).sum();
+    let mut sum = [0.0; 12];
+    for v in &vecs {
+        for k in 0..12 {
+            sum[k] += v[k];
+        }
+    }
+    let mut sign = vec![1.0; shares.len()];
+    let mut r = closure_residual(&sum, area, size);
+    let mut turned = Vec::new();
+    while !(r <= CLOSED_VECTOR_AREA) && turned.len() < shares.len() {
+        let mut best: Option<(usize, f64)> = None;
+        for (i, v) in vecs.iter().enumerate() {
+            let mut t = sum;
+            for k in 0..12 {
+                t[k] -= 2.0 * sign[i] * v[k];
+            }
+            let ri = closure_residual(&t, area, size);
+            if ri < r && best.is_none_or(|(_, b)| ri < b) {
+                best = Some((i, ri));
+            }
+        }
+        let Some((i, ri)) = best else { break };
+        for k in 0..12 {
+            sum[k] -= 2.0 * sign[i] * vecs[i][k];
+        }
+        sign[i] = -sign[i];
+        r = ri;
+        turned.push(i);
+    }
+    if r <= CLOSED_VECTOR_AREA {
+        turned.sort_unstable();
+        turned.dedup();
+        return Ok(turned.into_iter().filter(|&i| sign[i] < 0.0).collect());
+    }
+    Err(Error::OpenShell { vector_area: [sum[0], sum[1], sum[2]], area, ratio: r })
 }
 
 #[cfg(test)]

@@ -85,6 +85,14 @@ fn planing_hull_volume_matches_occt() {
 #[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
 fn mixed_solid_volume_matches_occt() {
     compare(&sample("mixed_solid.stp"), 1e-8);
+    // IGES faces without a B-rep carry no orientation: the hole's cylinder is written
+    // with its normal into the material and must be turned.
+    let e = compare(&sample("mixed_solid.igs"), 1e-8);
+    assert_eq!(e.turned.len(), 1, "{:?}", e.turned);
+    // The B-rep IGES twin: its cylinder is bounded by two circles and the seam line, loops
+    // that close only across the periodic seam, and is integrated over its parameter box.
+    let e = compare(&sample("mixed_solid_brep.igs"), 1e-8);
+    assert!(e.methods.iter().any(|m| matches!(m, FaceMethod::Rectangle(_))), "{:?}", e.methods);
 }
 
 fn blade_solid(dir: &Path) -> PathBuf {
