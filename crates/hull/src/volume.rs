@@ -676,7 +676,7 @@ fn iso_box(face: &Face, bounds: &[&BoundCurve], size: f64) -> Option<[f64; 4]> {
         let (lo, hi) = lines[d].iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
         let (a, b) = if hi - lo > tol[d] {
             (lo, hi)
-        } else if closed[d] && (lo - dom[2 * d]).abs() <= tol[d] || closed[d] && lines[d].is_empty() {
+        } else if closed[d] && (lines[d].is_empty() || (lo - dom[2 * d]).abs() <= tol[d]) {
             // Only the seam (or no line at all): the face goes once around.
             (dom[2 * d], dom[2 * d + 1])
         } else {
@@ -856,7 +856,7 @@ fn orient(shares: &[Moments], size: f64) -> Result<Vec<usize>> {
     let mut sign = vec![1.0; shares.len()];
     let mut r = closure_residual(&sum, area, size);
     let mut turned = Vec::new();
-    while !(r <= CLOSED_VECTOR_AREA) && turned.len() < shares.len() {
+    while (r.is_nan() || r > CLOSED_VECTOR_AREA) && turned.len() < shares.len() {
         let mut best: Option<(usize, f64)> = None;
         for (i, v) in vecs.iter().enumerate() {
             let mut t = sum;
