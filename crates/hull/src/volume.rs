@@ -147,31 +147,40 @@ fn area_nodes(p: usize) -> usize {
     p + 3
 }
 
-/// Relative agreement of a span's area with the sum of its quarters' at which the
-/// quarters are taken (on the samples' faces the areas then agree with OCCT's adaptive
-/// `BRepGProp::SurfaceProperties` at Eps 1e-13 to about 1e-12 relative; a fixed rule of
-/// `2p + 1` nodes was off by up to 4e-6 next to degenerate edges).
-const AREA_TOL: f64 = 1e-13;
+/// Relative agreement of two estimates of a span's area (two Gauss rules, or the span
+/// against its quarters) at which the finer is taken. The finer's own error is orders
+/// below the difference: on the samples' faces the areas agree with OCCT's adaptive
+/// `BRepGProp::SurfaceProperties` (Eps 1e-12) to 1e-13 relative, 2.5e-12 on the planing
+/// hull; a fixed rule of `2p + 1` nodes was off by up to 4e-6 next to degenerate edges.
+const AREA_TOL: f64 = 1e-10;
 
 /// The deepest quartering of a span.
 const AREA_DEPTH: usize = 6;
 
-/// `∫∫ f` over the box `b` by a tensor Gauss rule of `n = (nu, nv)` nodes, refined
-/// adaptively: each box is compared with its four quarters and split while they differ
-/// by more than [`AREA_TOL`] (relative), to [`AREA_DEPTH`] levels.
+/// `∫∫ f` over the box `b` by tensor Gauss rules of `n = (nu, nv)` and one more node
+/// per direction: when the two agree to [`AREA_TOL`] (relative) the finer is taken;
+/// otherwise the box is compared with its four quarters and split while they differ, to
+/// [`AREA_DEPTH`] levels.
 fn adaptive_area(f: &dyn Fn(f64, f64) -> f64, b: [f64; 4], n: (usize, usize)) -> f64 {
-    let gu = gauss_legendre(n.0, 0.0, 1.0);
-    let gv = gauss_legendre(n.1, 0.0, 1.0);
-    let quad = |b: [f64; 4]| -> f64 {
+    type Rule = (Vec<(f64, f64)>, Vec<(f64, f64)>);
+    let rule = |n: (usize, usize)| (gauss_legendre(n.0, 0.0, 1.0), gauss_legendre(n.1, 0.0, 1.0));
+    let tensor = |g: &Rule, b: [f64; 4]| -> f64 {
         let (du, dv) = (b[1] - b[0], b[3] - b[2]);
         let mut acc = 0.0;
-        for &(x, wx) in &gu {
-            for &(y, wy) in &gv {
+        for &(x, wx) in &g.0 {
+            for &(y, wy) in &g.1 {
                 acc += wx * wy * f(b[0] + x * du, b[2] + y * dv);
             }
         }
         acc * du * dv
     };
+    let fine = rule((n.0 + 1, n.1 + 1));
+    let coarse = rule(n);
+    let whole = tensor(&fine, b);
+    if (tensor(&coarse, b) - whole).abs() <= AREA_TOL * whole.abs() {
+        return whole;
+    }
+    let quad = |b: [f64; 4]| tensor(&fine, b);
     fn go(quad: &dyn Fn([f64; 4]) -> f64, b: [f64; 4], whole: f64, depth: usize) -> f64 {
         let (um, vm) = (0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]));
         let parts = [[b[0], um, b[2], vm], [um, b[1], b[2], vm], [b[0], um, vm, b[3]], [um, b[1], vm, b[3]]];
@@ -182,7 +191,7 @@ fn adaptive_area(f: &dyn Fn(f64, f64) -> f64, b: [f64; 4], n: (usize, usize)) ->
         }
         parts.iter().zip(q).map(|(p, qp)| go(quad, *p, qp, depth - 1)).sum()
     }
-    go(&quad, b, quad(b), AREA_DEPTH)
+    go(&quad, b, whole, AREA_DEPTH)
 }
 
 /// `∫ f` over `[a, b]` by `n` Gauss nodes, halved adaptively as [`adaptive_area`].
@@ -202,12 +211,6 @@ fn adaptive_line(f: &dyn Fn(f64) -> f64, a: f64, b: f64, n: usize) -> f64 {
 
 /// The area of the box `b` of `s`, span by span.
 fn box_area(s: &NurbsSurface, b: [f64; 4]) -> f64 {
-    let cuts = |knots: Vec<f64>, lo: f64, hi: f64| {
-        let mut c = vec![lo];
-        c.extend(knots.into_iter().filter(|&k| k > lo && k < hi));
-        c.push(hi);
-        c
-    };
     let uc = cuts(s.u_knots().distinct().0, b[0], b[1]);
     let vc = cuts(s.v_knots().distinct().0, b[2], b[3]);
     let n = (area_nodes(s.u_degree()), area_nodes(s.v_degree()));
@@ -284,8 +287,7 @@ pub fn natural_moments(s: &NurbsSurface, sign: f64) -> Moments {
 /// (exact as for natural faces: the box's sides fall on knot spans' parts).
 pub fn box_moments(s: &NurbsSurface, b: [f64; 4], sign: f64) -> Moments {
     let mut m = Moments::ZERO;
-    for (u, v, w) in box_rule(s, b, rule) {
-        let d = s.eval_d1(u, v);
+    let mut add = |d: &cadmorph_nurbs::SurfacePointD1, w: f64| {
         let n = d.du.cross(&d.dv) * (sign * w);
         let x = d.point.coords;
         m.volume += x.dot(&n) / 3.0;
@@ -296,9 +298,57 @@ pub fn box_moments(s: &NurbsSurface, b: [f64; 4], sign: f64) -> Moments {
                 m.flux[j][k] += x[j] * n[k];
             }
         }
+    };
+    if s.is_rational() {
+        for (u, v, w) in box_rule(s, b, rule) {
+            add(&s.eval_d1(u, v), w);
+        }
+        m.area = box_area(s, b);
+        return m;
     }
-    m.area = box_area(s, b);
+    // Non-rational: span by span, the volume rule's nodes also give the area, checked
+    // against a rule of one node less per direction (as `adaptive_area` does).
+    let (nu, _) = rule(s.u_degree(), false);
+    let (nv, _) = rule(s.v_degree(), false);
+    let (gu, gv) = (gauss_legendre(nu, 0.0, 1.0), gauss_legendre(nv, 0.0, 1.0));
+    let (cu, cv) = (gauss_legendre(nu - 1, 0.0, 1.0), gauss_legendre(nv - 1, 0.0, 1.0));
+    let f = |u: f64, v: f64| area_density(s, u, v);
+    let mut area = 0.0;
+    for us in cuts(s.u_knots().distinct().0, b[0], b[1]).windows(2) {
+        for vs in cuts(s.v_knots().distinct().0, b[2], b[3]).windows(2) {
+            let (du, dv) = (us[1] - us[0], vs[1] - vs[0]);
+            let mut fine = 0.0;
+            for &(x, wx) in &gu {
+                for &(y, wy) in &gv {
+                    let d = s.eval_d1(us[0] + x * du, vs[0] + y * dv);
+                    let w = wx * wy * du * dv;
+                    fine += w * d.du.cross(&d.dv).norm();
+                    add(&d, w);
+                }
+            }
+            let mut coarse = 0.0;
+            for &(x, wx) in &cu {
+                for &(y, wy) in &cv {
+                    coarse += wx * wy * du * dv * f(us[0] + x * du, vs[0] + y * dv);
+                }
+            }
+            area += if (fine - coarse).abs() <= AREA_TOL * fine.abs() {
+                fine
+            } else {
+                adaptive_area(&f, [us[0], us[1], vs[0], vs[1]], (nu - 1, nv - 1))
+            };
+        }
+    }
+    m.area = area;
     m
+}
+
+/// `[lo, knots inside, hi]`.
+fn cuts(knots: Vec<f64>, lo: f64, hi: f64) -> Vec<f64> {
+    let mut c = vec![lo];
+    c.extend(knots.into_iter().filter(|&k| k > lo && k < hi));
+    c.push(hi);
+    c
 }
 
 /// `∂(∫_Ω f)/∂P_j = ∫ f R_j n dA` over a natural face for `f = 1, x, y, z`: for each
