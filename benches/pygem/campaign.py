@@ -25,6 +25,7 @@ rows (sequential, as such loops are written, and with `--jobs N` in N processes)
 """
 import argparse
 import csv
+import json
 import os
 import re
 import shutil
@@ -92,19 +93,29 @@ ENTRY = re.compile(r"^mu_([xyz])\[(\d+),(\d+),(\d+)\]$")
 
 
 def _variant(job):
-    """One PyGeM variant: (prm, entries, values, src, dst) -> seconds."""
-    prm, entries, values, src, dst = job
+    """One PyGeM variant: (prm, entries, values, src, dst, scale) -> seconds."""
+    prm, entries, values, src, dst, scale = job
     cad = _pygem()
     t0 = time.perf_counter()
     ffd = cad.FFD()
     ffd.read_parameters(prm)
+    # OCCT reads the file into millimetres; the lattice box must follow (the
+    # displacements are fractions of the box and stay).
+    ffd.box_origin = ffd.box_origin * scale
+    ffd.box_length = ffd.box_length * scale
     for (axis, i, j, k), x in zip(entries, values):
         getattr(ffd, "array_mu_" + axis)[i, j, k] = x
     ffd(src, dst=dst)
     return time.perf_counter() - t0
 
 
-def pygem_loop(space, manifest_csv, out, jobs, limit):
+def occt_scale(binary, path):
+    """Millimetres per file unit: OCCT's readers convert IGES and STEP to millimetres."""
+    r = subprocess.run([binary, "info", path, "--json"], capture_output=True, text=True, check=True)
+    return json.loads(r.stdout)["unit"]["metres_per_unit"] * 1000.0
+
+
+def pygem_loop(space, manifest_csv, out, jobs, limit, scale):
     base = os.path.dirname(space["__path"])
     prm = os.path.normpath(os.path.join(base, space["deformation"]["ffd"]))
     src = os.path.normpath(os.path.join(base, space["base"]["geometry"]))
@@ -124,7 +135,8 @@ def pygem_loop(space, manifest_csv, out, jobs, limit):
         renamed = os.path.join(out, "base" + {".igs": ".iges", ".stp": ".step"}.get(ext, ext))
         shutil.copyfile(src, renamed)
         src = renamed
-    work = [(prm, entries, [float(r[n]) for n in names], src, os.path.join(out, r["id"] + ".iges")) for r in rows]
+    work = [(prm, entries, [float(r[n]) for n in names], src, os.path.join(out, r["id"] + ".iges"), scale)
+            for r in rows]
     t0 = time.perf_counter()
     if jobs == 1:
         per = [_variant(w) for w in work]
@@ -166,6 +178,8 @@ def main():
     try:
         ours, seq, par = [], [], []
         n_all = None
+        base = os.path.normpath(os.path.join(os.path.dirname(a.campaign), space["base"]["geometry"]))
+        scale = occt_scale(a.cadmorph, base)
         for r in range(a.rounds):
             out = os.path.join(tmp, "cadmorph")
             wall, summary = cadmorph_run(a.cadmorph, a.campaign, out)
@@ -174,11 +188,11 @@ def main():
             with open(manifest) as f:
                 n_all = sum(1 for _ in f) - 1
             n = min(n_all, a.limit or n_all)
-            scale = n_all / n
-            w1, per, files = pygem_loop(space, manifest, os.path.join(tmp, "pygem1"), 1, n)
-            seq.append(w1 * scale)
-            wj, _, _ = pygem_loop(space, manifest, os.path.join(tmp, "pygemj"), a.jobs, n)
-            par.append(wj * scale)
+            extra = n_all / n
+            w1, per, files = pygem_loop(space, manifest, os.path.join(tmp, "pygem1"), 1, n, scale)
+            seq.append(w1 * extra)
+            wj, _, _ = pygem_loop(space, manifest, os.path.join(tmp, "pygemj"), a.jobs, n, scale)
+            par.append(wj * extra)
             print(f"round {r + 1}: cadmorph {wall:.3f} s ({summary}); PyGeM sequential {w1:.2f} s for {n} "
                   f"(per variant {stats(per)} s), {a.jobs} processes {wj:.2f} s", flush=True)
             bad = [f for f in files if not os.path.exists(f) or os.path.getsize(f) == 0]
