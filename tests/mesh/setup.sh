@@ -6,7 +6,8 @@
 # 1. Debian's `openfoam` package (v1912 in bookworm): blockMesh and checkMesh. Installed
 #    with apt-get when `/usr/share/openfoam/etc/bashrc` is missing; apt is
 #    retried while another process holds the dpkg lock.
-# 2. A venv at tests/mesh/.venv with the pins of requirements.txt (meshio, gmsh).
+# 2. A venv at tests/mesh/.venv with the pins of requirements.txt (meshio, gmsh; pyarrow
+#    for the campaign table).
 #
 # Prints the venv's python on the last line (PY=$(bash setup.sh | tail -1)). The OpenFOAM
 # environment is sourced by the tests themselves from the bashrc above.
@@ -40,7 +41,7 @@ if [ ! -f "$foam_bashrc" ] || ! command -v checkMesh >/dev/null; then
 fi
 
 probe() {
-    "$venv/bin/python" -c 'import meshio, gmsh, numpy' 2>&1
+    "$venv/bin/python" -c 'import meshio, gmsh, numpy, pyarrow.parquet' 2>&1
 }
 if [ -x "$venv/bin/python" ] && [ -f "$stamp" ] && cmp -s "$req" "$stamp" && probe >/dev/null; then
     echo "mesh venv up to date: $venv" >&2

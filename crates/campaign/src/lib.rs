@@ -3,7 +3,7 @@
 //! results): a design space ([`DesignSpace`], `campaign.toml`), seeded samplers
 //! ([`sampler`]), a reproducible manifest ([`Manifest`]), idempotent and resumable runs
 //! sharded by hand or by a Slurm job array ([`run()`], [`Shard`], [`slurm`]), one table of
-//! the results ([`collect()`]), exact sensitivities ([`sensitivity`]) and active subspaces
+//! the results ([`collect()`], CSV and [`parquet`]), exact sensitivities ([`sensitivity`]) and active subspaces
 //! ([`active`]).
 //!
 //! The paper's offline/online split is used (§2.1.1): the deformation's basis at the
@@ -54,6 +54,7 @@ mod error;
 pub mod fsutil;
 pub mod manifest;
 pub mod online;
+pub mod parquet;
 pub mod report;
 pub mod run;
 pub mod sampler;
@@ -62,7 +63,7 @@ pub mod shard;
 pub mod slurm;
 pub mod space;
 
-pub use collect::{collect, status, State, Status};
+pub use collect::{collect, status, table, State, Status, Table};
 pub use entry::Entry;
 pub use error::{Error, Result};
 pub use manifest::{Manifest, Variant};

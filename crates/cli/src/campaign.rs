@@ -47,11 +47,12 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// One CSV of every variant's values and results.
+    /// One table of every variant's values and results, as CSV and Parquet.
     Collect {
         #[command(flatten)]
         c: Campaign,
-        /// Where to write it (default: results.csv in the campaign folder).
+        /// Where to write it: a `.parquet` path writes Parquet, any other CSV (default:
+        /// both, results.csv and results.parquet in the campaign folder).
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
@@ -185,13 +186,24 @@ pub fn run(a: Args) -> Result<()> {
         Command::Collect { c, output } => {
             let s = space(&c)?;
             let m = Manifest::plan(&s);
-            let table = cadmorph_campaign::collect(&s, &m);
-            let path = output.unwrap_or_else(|| s.output.join("results.csv"));
-            cadmorph_campaign::fsutil::write_atomic(&path, table.as_bytes())?;
+            let table = cadmorph_campaign::table(&s, &m);
+            let paths = match output {
+                Some(p) => vec![p],
+                None => vec![s.output.join("results.csv"), s.output.join("results.parquet")],
+            };
+            for path in &paths {
+                let bytes = if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("parquet")) {
+                    cadmorph_campaign::parquet::write(&table)
+                        .map_err(|e| anyhow::anyhow!("{}: writing Parquet: {e}", path.display()))?
+                } else {
+                    table.to_csv().into_bytes()
+                };
+                cadmorph_campaign::fsutil::write_atomic(path, &bytes)?;
+            }
             let st = cadmorph_campaign::status(&s, &m);
             println!(
                 "{}: {} variants ({} ok, {} out of tolerance, {} failed, {} pending)",
-                path.display(),
+                paths.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "),
                 st.planned,
                 st.ok,
                 st.out_of_tolerance,

@@ -214,6 +214,53 @@ fn ten_variants_are_occt_valid() {
     }
 }
 
+#[test]
+#[ignore = "needs pyarrow (the venv of tests/mesh/setup.sh)"]
+fn collect_parquet_reads_in_pyarrow_as_the_csv() {
+    let _guard = LOCAL_RUN.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = complete_local_run();
+    ok(&cadmorph(&["campaign", "collect", campaign().to_str().unwrap(), "--out", dir.to_str().unwrap()]));
+    // pyarrow's reader, every column as JSON (null where missing).
+    let script = "import json, sys, pyarrow.parquet as pq\n\
+                  t = pq.read_table(sys.argv[1])\n\
+                  print(json.dumps({'schema': [[f.name, str(f.type)] for f in t.schema], 'columns': t.to_pydict()}))";
+    let py = root().join("tests/mesh/.venv/bin/python");
+    let out =
+        Command::new(&py).args(["-c", script]).arg(dir.join("results.parquet")).output().expect("tests/mesh/setup.sh");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let csv = std::fs::read_to_string(dir.join("results.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let schema: Vec<&str> = j["schema"].as_array().unwrap().iter().map(|f| f[0].as_str().unwrap()).collect();
+    assert_eq!(schema, header);
+    let types: BTreeMap<&str, &str> =
+        j["schema"].as_array().unwrap().iter().map(|f| (f[0].as_str().unwrap(), f[1].as_str().unwrap())).collect();
+    assert_eq!(
+        (types["id"], types["area"], types["control_points"], types["in_tolerance"]),
+        ("string", "double", "int64", "bool")
+    );
+    // Every cell equal to the CSV's (the CSV's timings have three decimals).
+    for (r, line) in lines.enumerate() {
+        for (name, cell) in header.iter().zip(line.split(',')) {
+            let v = &j["columns"][*name][r];
+            if cell.is_empty() {
+                assert!(v.is_null(), "row {r} {name}: {v} where the CSV has nothing");
+            } else if let Some(x) = v.as_f64() {
+                let y: f64 = cell.parse().unwrap();
+                // serde_json's float parsing may be one ulp off the shortest form Python prints.
+                let tol = if name.ends_with("_ms") { 5e-4 } else { 2.5e-16 * y.abs() };
+                assert!((x - y).abs() <= tol, "row {r} {name}: {x} vs {y}");
+            } else if let Some(b) = v.as_bool() {
+                assert_eq!(b.to_string(), cell, "row {r} {name}");
+            } else {
+                assert_eq!(v.as_str().unwrap(), cell.trim_matches('"'), "row {r} {name}");
+            }
+        }
+    }
+    assert_eq!(j["columns"]["id"].as_array().unwrap().len(), 130);
+}
+
 fn have(program: &str) -> bool {
     Command::new(program).arg("--version").output().is_ok_and(|o| o.status.success())
 }
