@@ -17,6 +17,8 @@
 //! * [`CadDocument`]: what a document gives (format, units, counts, faces, bound and free
 //!   curves) and the edits it takes (a face's surface, a curve), with the contract every
 //!   implementation keeps (see its docs).
+//! * [`real`]: reals as text, the shortest round-trip digits with the point and exponent
+//!   both formats want.
 //!
 //! ```
 //! use cadmorph_brep::{EntityRef, Format};
@@ -32,6 +34,7 @@ mod document;
 mod entity;
 mod error;
 mod face;
+pub mod real;
 mod units;
 
 pub use curve::{BoundCurve, FreeCurve};

@@ -19,70 +19,104 @@ use crate::read::P_WIDTH;
 /// assert_eq!(format_real(0.1 + 0.2).parse::<f64>().unwrap(), 0.1 + 0.2);
 /// ```
 pub fn format_real(x: f64) -> String {
-    let a = x.abs();
-    if a == 0.0 || (1e-5..1e15).contains(&a) {
-        let mut s = format!("{x}");
-        if !s.contains('.') {
-            s.push('.');
-        }
-        s
-    } else {
-        let s = format!("{x:e}");
-        let (mantissa, exp) = s.split_once('e').unwrap_or((&s, "0"));
-        let dot = if mantissa.contains('.') { "" } else { "." };
-        format!("{mantissa}{dot}E{exp}")
-    }
+    let mut out = Vec::with_capacity(24);
+    write_real(x, &mut out);
+    String::from_utf8(out).expect("ASCII")
+}
+
+/// [`format_real`] appended to `out`, without allocating.
+pub(crate) fn write_real(x: f64, out: &mut Vec<u8>) {
+    cadmorph_brep::real::write_real(x, (1e-5, 1e15), out);
 }
 
 /// The text of one parameter value.
 pub(crate) fn format_value(v: &Value, out: &mut Vec<u8>) {
     match v {
         Value::Default => {}
-        Value::Integer(i) => out.extend_from_slice(i.to_string().as_bytes()),
-        Value::Real(x) => out.extend_from_slice(format_real(*x).as_bytes()),
+        Value::Integer(i) => out.extend_from_slice(itoa::Buffer::new().format(*i).as_bytes()),
+        Value::Real(x) => write_real(*x, out),
         Value::Text(t) => {
-            out.extend_from_slice(t.len().to_string().as_bytes());
+            out.extend_from_slice(itoa::Buffer::new().format(t.len()).as_bytes());
             out.push(b'H');
             out.extend_from_slice(t);
         }
     }
 }
 
+/// A record laid out in lines: their text one after the other, and where each ends.
+pub(crate) struct Layout {
+    /// Every line's text, concatenated.
+    pub text: Vec<u8>,
+    /// The end of each line in `text`.
+    pub ends: Vec<usize>,
+}
+
+impl Layout {
+    /// The lines.
+    pub fn lines(&self) -> impl Iterator<Item = &[u8]> {
+        let starts = std::iter::once(0).chain(self.ends.iter().copied());
+        starts.zip(&self.ends).map(|(a, &b)| &self.text[a..b])
+    }
+
+    /// How many lines.
+    pub fn len(&self) -> usize {
+        self.ends.len()
+    }
+}
+
 /// Lays a record out in lines of at most `width` columns: each value followed by the
 /// parameter delimiter, the last by the record delimiter. Numbers never straddle lines;
 /// strings longer than a line are split (Hollerith strings may continue on the next line).
-pub(crate) fn layout_record(values: &[Value], pd: u8, rd: u8, width: usize) -> Vec<Vec<u8>> {
-    let mut lines: Vec<Vec<u8>> = vec![Vec::with_capacity(width)];
+pub(crate) fn layout(values: &[Value], pd: u8, rd: u8, width: usize) -> Layout {
+    let mut text = Vec::with_capacity(values.len() * 20);
+    let mut ends = Vec::new();
+    let mut start = 0;
     let mut tok = Vec::new();
     for (k, v) in values.iter().enumerate() {
         tok.clear();
         format_value(v, &mut tok);
         tok.push(if k + 1 == values.len() { rd } else { pd });
-        let cur = lines.last_mut().expect("one line");
-        if cur.len() + tok.len() <= width {
-            cur.extend_from_slice(&tok);
+        let cur = text.len() - start;
+        if cur + tok.len() <= width {
+            text.extend_from_slice(&tok);
         } else if tok.len() <= width && !matches!(v, Value::Text(_)) {
-            lines.push(tok.clone());
+            ends.push(text.len());
+            start = text.len();
+            text.extend_from_slice(&tok);
         } else {
             // A long string: fill the line, continue on the next ones.
             let mut rest = &tok[..];
             loop {
-                let cur = lines.last_mut().expect("one line");
-                let room = width - cur.len();
+                let room = width - (text.len() - start);
                 let take = room.min(rest.len());
-                cur.extend_from_slice(&rest[..take]);
+                text.extend_from_slice(&rest[..take]);
                 rest = &rest[take..];
                 if rest.is_empty() {
                     break;
                 }
-                lines.push(Vec::with_capacity(width));
+                ends.push(text.len());
+                start = text.len();
             }
         }
     }
     if values.is_empty() {
-        lines[0].push(rd);
+        text.push(rd);
     }
-    lines
+    ends.push(text.len());
+    Layout { text, ends }
+}
+
+/// [`layout`] as one vector per line.
+pub(crate) fn layout_record(values: &[Value], pd: u8, rd: u8, width: usize) -> Vec<Vec<u8>> {
+    layout(values, pd, rd, width).lines().map(<[u8]>::to_vec).collect()
+}
+
+/// Appends `n` right-justified in `width` columns (`zero_padded`: with leading zeros).
+pub(crate) fn put_number(out: &mut Vec<u8>, n: usize, width: usize, zero_padded: bool) {
+    let mut b = itoa::Buffer::new();
+    let s = b.format(n).as_bytes();
+    out.extend(std::iter::repeat_n(if zero_padded { b'0' } else { b' ' }, width.saturating_sub(s.len())));
+    out.extend_from_slice(s);
 }
 
 /// A sequence-number field (7 columns) in the file's style.

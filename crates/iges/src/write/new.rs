@@ -2,7 +2,7 @@
 
 use cadmorph_nurbs::{NurbsCurve, NurbsSurface};
 
-use super::{layout_record, seq};
+use super::{layout, put_number, seq};
 use crate::document::{Document, EntityId, Status, Value};
 use crate::edit::{bspline_curve_values, bspline_surface_values};
 use crate::global::Units;
@@ -205,12 +205,13 @@ impl DocumentBuilder {
             Value::Integer(0),
             t(&stamp),
         ];
-        let g_lines = layout_record(&global, b',', b';', G_WIDTH);
+        let g_lines: Vec<Vec<u8>> = layout(&global, b',', b';', G_WIDTH).lines().map(<[u8]>::to_vec).collect();
         for (k, l) in g_lines.iter().enumerate() {
             line(&mut out, l, 72, format!("G{}", seq(k + 1, true)).as_bytes());
         }
-        let records: Vec<Vec<Vec<u8>>> =
-            self.entities.iter().map(|e| layout_record(&e.values, b',', b';', P_WIDTH)).collect();
+        let records: Vec<super::Layout> =
+            self.entities.iter().map(|e| layout(&e.values, b',', b';', P_WIDTH)).collect();
+        out.reserve(records.iter().map(|r| r.len() * 81).sum::<usize>() + 162 * records.len());
         let mut p_next = 1usize;
         for (k, (e, rec)) in self.entities.iter().zip(&records).enumerate() {
             let ty = match e.values.first() {
@@ -227,9 +228,14 @@ impl DocumentBuilder {
         }
         let mut n = 0;
         for (k, rec) in records.iter().enumerate() {
-            for l in rec {
+            for l in rec.lines() {
                 n += 1;
-                line(&mut out, l, P_WIDTH, format!("{:>8}P{}", 2 * k + 1, seq(n, true)).as_bytes());
+                out.extend_from_slice(l);
+                out.resize(out.len() + P_WIDTH.saturating_sub(l.len()), b' ');
+                put_number(&mut out, 2 * k + 1, 8, false);
+                out.push(b'P');
+                put_number(&mut out, n, 7, true);
+                out.extend_from_slice(eol);
             }
         }
         let t_body = format!(

@@ -29,28 +29,23 @@ use crate::EntityId;
 /// }
 /// ```
 pub fn format_real(x: f64) -> String {
-    if !x.is_finite() {
-        // Part 21 has no infinities; the largest real keeps the file readable.
-        return format_real(if x.is_nan() { 0.0 } else { x.signum() * f64::MAX });
-    }
-    let s = format!("{x:?}");
-    let (mantissa, exp) = match s.find('e') {
-        Some(i) => (&s[..i], Some(&s[i + 1..])),
-        None => (s.as_str(), None),
-    };
-    let mut out = String::with_capacity(s.len() + 2);
-    if mantissa.contains('.') {
-        let m = mantissa.trim_end_matches('0');
-        out.push_str(m);
+    let mut out = Vec::with_capacity(24);
+    write_real(x, &mut out);
+    String::from_utf8(out).expect("ASCII")
+}
+
+/// [`format_real`] appended to `out`, without allocating.
+pub(crate) fn write_real(x: f64, out: &mut Vec<u8>) {
+    // Part 21 has no infinities; the largest real keeps the file readable.
+    let x = if x.is_finite() {
+        x
+    } else if x.is_nan() {
+        0.0
     } else {
-        out.push_str(mantissa);
-        out.push('.');
-    }
-    if let Some(e) = exp {
-        out.push('E');
-        out.push_str(e);
-    }
-    out
+        x.signum() * f64::MAX
+    };
+    // Decimal notation where `{:?}` uses it: 1e-4 ≤ |x| < 1e16.
+    cadmorph_brep::real::write_real(x, (1e-4, 1e16), out);
 }
 
 impl Document {
@@ -208,13 +203,13 @@ pub(crate) fn knot_lists(knots: &cadmorph_nurbs::KnotVector) -> (String, String)
 
 /// `(a,b,c)` with [`format_real`] numbers.
 pub(crate) fn real_list(xs: impl IntoIterator<Item = f64>) -> String {
-    let mut s = String::from("(");
+    let mut s = vec![b'('];
     for (i, x) in xs.into_iter().enumerate() {
         if i > 0 {
-            s.push(',');
+            s.push(b',');
         }
-        s.push_str(&format_real(x));
+        write_real(x, &mut s);
     }
-    s.push(')');
-    s
+    s.push(b')');
+    String::from_utf8(s).expect("ASCII")
 }
