@@ -143,6 +143,28 @@ pub enum Error {
         /// The budget in force, in bytes.
         limit: u64,
     },
+    /// An FFD lattice larger than one deformation evaluates: a dimension over
+    /// [`crate::ffd::MAX_NODES_PER_AXIS`] (the Bernstein degree `f64` holds) or a node count
+    /// over [`crate::ffd::MAX_NODES`] (the work per deformed point).
+    #[error(
+        "{line_prefix}FFD lattice {}x{}x{}: {name} = {value}, over the limit of {limit} ({reason})",
+        shape[0], shape[1], shape[2],
+        line_prefix = line.map(|l| format!("line {l}: ")).unwrap_or_default()
+    )]
+    LatticeTooLarge {
+        /// Line of the lattice size, if it came from a file.
+        line: Option<usize>,
+        /// The lattice size asked for.
+        shape: [usize; 3],
+        /// The parameter over its limit (`n control points z`, `nodes in all`).
+        name: &'static str,
+        /// Its value.
+        value: u128,
+        /// The limit.
+        limit: usize,
+        /// Why the limit is there.
+        reason: &'static str,
+    },
     /// A parameter file is not valid UTF-8.
     #[error("byte {offset} (line {line}): not valid UTF-8 text")]
     Encoding {
