@@ -169,30 +169,17 @@ impl Ffd {
         let [l, m, n] = n_control_points;
         // Three μ components per node, checked before the allocation and without wrapping.
         crate::budget::check(&format!("FFD lattice {l}x{m}x{n}"), &[l, m, n, 3], std::mem::size_of::<f64>())?;
-        for (&nodes, name) in
-            n_control_points.iter().zip(["n control points x", "n control points y", "n control points z"])
-        {
-            if nodes > MAX_NODES_PER_AXIS {
-                return Err(Error::LatticeTooLarge {
-                    line: None,
-                    shape: n_control_points,
-                    name,
-                    value: nodes as u128,
-                    limit: MAX_NODES_PER_AXIS,
-                    reason: "Bernstein polynomials of a higher degree overflow f64",
-                });
-            }
-        }
-        // Within MAX_NODES_PER_AXIS each, the product does not wrap.
-        if l * m * n > MAX_NODES {
+        if let Some(axis) = n_control_points.iter().position(|&k| k > MAX_NODES_PER_AXIS) {
             return Err(Error::LatticeTooLarge {
                 line: None,
                 shape: n_control_points,
-                name: "nodes in all",
-                value: (l * m * n) as u128,
-                limit: MAX_NODES,
-                reason: "each deformed point sums over every node",
+                axis: Some(axis),
+                limit: MAX_NODES_PER_AXIS,
             });
+        }
+        // Within MAX_NODES_PER_AXIS each, the product does not wrap.
+        if l * m * n > MAX_NODES {
+            return Err(Error::LatticeTooLarge { line: None, shape: n_control_points, axis: None, limit: MAX_NODES });
         }
         let mut ffd = Ffd {
             box_origin,

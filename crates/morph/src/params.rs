@@ -185,8 +185,8 @@ fn at_line(e: Error, line: usize) -> Error {
         Error::InvalidParameter { line: None, name, value, reason } => {
             Error::InvalidParameter { line: Some(line), name, value, reason }
         }
-        Error::LatticeTooLarge { line: None, shape, name, value, limit, reason } => {
-            Error::LatticeTooLarge { line: Some(line), shape, name, value, limit, reason }
+        Error::LatticeTooLarge { line: None, shape, axis, limit } => {
+            Error::LatticeTooLarge { line: Some(line), shape, axis, limit }
         }
         other => other,
     }

@@ -177,11 +177,9 @@ fn ffd_from_ini(ini: &Ini) -> Result<Ffd> {
     let mut ffd = Ffd::try_new(shape, Point3::from(origin), Vector3::from(length), Vector3::from(angle)).map_err(
         |e| match e {
             // The line of the dimension over its limit, else of the last dimension.
-            Error::LatticeTooLarge { line: None, shape, name, value, limit, reason } => {
-                let axis =
-                    ["n control points x", "n control points y", "n control points z"].iter().position(|a| *a == name);
-                let line = Some(sizes[axis.unwrap_or(2)].1);
-                Error::LatticeTooLarge { line, shape, name, value, limit, reason }
+            Error::LatticeTooLarge { line: None, shape, axis, limit } => {
+                let line = Some(sizes[axis.unwrap_or(2).min(2)].1);
+                Error::LatticeTooLarge { line, shape, axis, limit }
             }
             other => other,
         },
