@@ -232,6 +232,21 @@ _"#
     assert!(m.contains("bytes of data, but the block is shorter"), "{m}");
 }
 
+/// Found by the `mesh_formats` fuzz target (issue 13 run): a legacy VTK cell count of
+/// 2⁶⁴ − 1 was allocated for (an abort on allocation) before the list was read. Refused at
+/// its line.
+#[test]
+fn legacy_vtk_cell_counts_beyond_the_file_are_refused() {
+    for kw in ["LINES", "CELLS", "POLYGONS"] {
+        let text = format!(
+            "# vtk DataFile Version 4.2\nhuge\nASCII\nDATASET POLYDATA\nPOINTS 1 float\n0 0 0\n{kw} 18446744073709551615 0\n"
+        );
+        let e = VtkLegacy::parse(&text).unwrap_err();
+        let m = message(&e);
+        assert!(m.contains("line 7") && m.contains("a cell count the file can hold"), "{kw}: {m}");
+    }
+}
+
 /// Found by the `mesh_formats` fuzz target: an MSH 2.2 element record with a huge tag
 /// count overflowed `3 + ntags` (and a negative count would have been read as huge).
 #[test]
