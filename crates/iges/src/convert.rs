@@ -42,6 +42,7 @@ use cadmorph_nurbs::analytic::{
 };
 use cadmorph_nurbs::{Curve, KnotVector, NurbsCurve, NurbsSurface, Surface};
 use nalgebra::{Matrix3, Matrix4, Point3, Vector3};
+use std::cell::Cell;
 
 use crate::document::{Document, EntityId};
 use crate::entity::View;
@@ -50,12 +51,52 @@ use crate::error::{Error, Result};
 mod conic;
 pub mod offset;
 
-/// Deepest chain of 124 matrices or of nested curves followed.
+/// Deepest chain of 124 matrices, or of curves and surfaces nested in one another (a 102
+/// of 142s on a 120 whose generatrix is a 142 on ...), followed.
 const MAX_DEPTH: usize = 64;
 /// Longest chain of surface pointers (140, 143, 144, 510 to their surfaces) converted.
 const MAX_SURFACE_CHAIN: usize = 8;
-/// Most curve entities visited to convert one curve (composite curves may repeat pieces).
+/// Most curve and surface entities visited to convert one curve or surface (composite
+/// curves may repeat pieces, and surfaces made of curves on surfaces may share them).
 const MAX_CURVE_VISITS: usize = 100_000;
+/// The error reason of a conversion nested deeper than [`MAX_DEPTH`].
+const NESTED: &str = "curves and surfaces nesting deeper than 64 (or a reference cycle)";
+/// The error reason of a conversion that visits more than [`MAX_CURVE_VISITS`] entities.
+const TOO_MANY_VISITS: &str = "more than 100000 curve and surface entities visited to convert one entity";
+
+/// Where a conversion is in its recursion: how deeply curves and surfaces are nested
+/// (a 142 on a 120 whose generatrix is a 142 on a 118 ...), and how many more entities
+/// the whole conversion may visit. One counter for every kind of entity, so that neither
+/// a reference cycle through several kinds (which recursed until the stack overflowed:
+/// each kind counted its own depth from zero) nor a wide graph of shared pieces runs away.
+#[derive(Clone, Copy)]
+struct Nest<'a> {
+    depth: usize,
+    visits: &'a Cell<usize>,
+}
+
+impl<'a> Nest<'a> {
+    fn new(visits: &'a Cell<usize>) -> Self {
+        Nest { depth: 0, visits }
+    }
+
+    /// One level deeper, into entity `id`: [`Error::Unsupported`] naming `id` when that is
+    /// deeper than [`MAX_DEPTH`] or the conversion has visited [`MAX_CURVE_VISITS`] entities.
+    fn enter(self, doc: &Document, id: EntityId) -> Result<Nest<'a>> {
+        if self.depth >= MAX_DEPTH {
+            return Err(unsupported(doc, id, NESTED));
+        }
+        let left = self.visits.get().checked_sub(1).ok_or_else(|| unsupported(doc, id, TOO_MANY_VISITS))?;
+        self.visits.set(left);
+        Ok(Nest { depth: self.depth + 1, visits: self.visits })
+    }
+}
+
+/// Whether `e` is a nesting or visit limit of [`Nest`] (passed on as it is, not replaced
+/// by the error of the entity that contains the nesting).
+fn is_limit(e: &Error) -> bool {
+    matches!(e, Error::Unsupported { reason, .. } if *reason == NESTED || *reason == TOO_MANY_VISITS)
+}
 /// Margin added around boundary boxes of unbounded surfaces (fraction of the extent).
 const BOX_MARGIN: f64 = 0.01;
 
@@ -214,8 +255,8 @@ impl Document {
     /// (end points off the conic or on two branches, wrong form for `B² − 4AC`);
     /// [`Error::Geometry`] for invalid data.
     pub fn curve(&self, id: EntityId) -> Result<Vec<NurbsCurve>> {
-        let mut budget = MAX_CURVE_VISITS;
-        self.curve_at(id, 0, &mut budget)
+        let visits = Cell::new(MAX_CURVE_VISITS);
+        self.curve_at(id, Nest::new(&visits))
     }
 
     /// The curve entity `id` joined into one NURBS curve (see [`join_curves`]).
@@ -224,7 +265,13 @@ impl Document {
     ///
     /// As [`curve`](Self::curve).
     pub fn curve_joined(&self, id: EntityId) -> Result<NurbsCurve> {
-        let pieces = self.curve(id)?;
+        let visits = Cell::new(MAX_CURVE_VISITS);
+        self.curve_joined_at(id, Nest::new(&visits))
+    }
+
+    /// [`curve_joined`](Self::curve_joined) inside a conversion.
+    fn curve_joined_at(&self, id: EntityId, nest: Nest<'_>) -> Result<NurbsCurve> {
+        let pieces = self.curve_at(id, nest)?;
         if pieces.len() == 1 {
             return Ok(pieces.into_iter().next().expect("one"));
         }
@@ -234,13 +281,9 @@ impl Document {
         join_curves(&pieces).map_err(geometry(id))
     }
 
-    fn curve_at(&self, id: EntityId, depth: usize, budget: &mut usize) -> Result<Vec<NurbsCurve>> {
-        if depth > MAX_DEPTH {
-            return Err(unsupported(self, id, "curves nested deeper than 64"));
-        }
-        // Composite curves may share (or repeat) pieces: bound the total work.
-        *budget =
-            budget.checked_sub(1).ok_or_else(|| unsupported(self, id, "composite curves with too many pieces"))?;
+    fn curve_at(&self, id: EntityId, nest: Nest<'_>) -> Result<Vec<NurbsCurve>> {
+        // Composite curves may share (or repeat) pieces: the visits bound the total work.
+        let nest = nest.enter(self, id)?;
         let g = geometry(id);
         let m = self.transform(id)?;
         let local: Vec<NurbsCurve> = match self.view(id)? {
@@ -316,13 +359,13 @@ impl Document {
             View::CompositeCurve(c) => {
                 let mut out = Vec::with_capacity(c.curves.len());
                 for child in c.curves {
-                    out.extend(self.curve_at(child, depth + 1, budget)?);
+                    out.extend(self.curve_at(child, nest)?);
                 }
                 out
             }
             View::CurveOnSurface(c) => match (c.model_curve, c.parameter_curve) {
-                (Some(mc), _) => self.curve_at(mc, depth + 1, budget)?,
-                (None, Some(pc)) => self.curve_on_surface(id, c.surface, pc, depth, budget)?,
+                (Some(mc), _) => self.curve_at(mc, nest)?,
+                (None, Some(pc)) => self.curve_on_surface(id, c.surface, pc, nest)?,
                 (None, None) => {
                     return Err(unsupported(
                         self,
@@ -350,16 +393,19 @@ impl Document {
         id: EntityId,
         surface: EntityId,
         parameter_curve: EntityId,
-        depth: usize,
-        budget: &mut usize,
+        nest: Nest<'_>,
     ) -> Result<Vec<NurbsCurve>> {
-        let s = self.child_surface(surface, &[], depth + 1).map_err(|_| {
-            unsupported(self, id, "curve on surface without a model-space curve, on a surface placed by its bounds")
+        let s = self.child_surface(surface, &[], nest).map_err(|e| {
+            if is_limit(&e) {
+                e
+            } else {
+                unsupported(self, id, "curve on surface without a model-space curve, on a surface placed by its bounds")
+            }
         })?;
         let size = s.surface.control_extent();
         let (ud, vd) = s.surface.domain();
         let mut out = Vec::new();
-        for p in self.curve_at(parameter_curve, depth + 1, budget)? {
+        for p in self.curve_at(parameter_curve, nest)? {
             let d = p.domain();
             let f = |t: f64| {
                 let q = cadmorph_nurbs::Curve::eval(&p, t);
@@ -420,7 +466,8 @@ impl Document {
     pub fn surface(&self, id: EntityId) -> Result<ExactSurface> {
         self.surface_chain(id)?;
         let (m, local_hint) = self.placement_and_hint(id)?;
-        let mut s = self.surface_local(id, &local_hint, 0)?;
+        let visits = Cell::new(MAX_CURVE_VISITS);
+        let mut s = self.surface_local(id, &local_hint, Nest::new(&visits))?;
         if m != Matrix4::identity() {
             s.surface.transform_by(&m);
         }
@@ -450,10 +497,8 @@ impl Document {
     }
 
     /// The surface in its definition space (own transformation not applied).
-    pub(crate) fn surface_local(&self, id: EntityId, hint: &[Point3<f64>], depth: usize) -> Result<ExactSurface> {
-        if depth > MAX_DEPTH {
-            return Err(unsupported(self, id, "surfaces nested deeper than 64"));
-        }
+    fn surface_local(&self, id: EntityId, hint: &[Point3<f64>], nest: Nest<'_>) -> Result<ExactSurface> {
+        let nest = nest.enter(self, id)?;
         let g = geometry(id);
         Ok(match self.view(id)? {
             View::BSplineSurface(b) => {
@@ -490,7 +535,7 @@ impl Document {
                 let mut pts = hint.to_vec();
                 if pts.is_empty() {
                     if let Some(bc) = p.boundary {
-                        pts = self.curve(bc)?.iter().flat_map(|c| c.control_points().to_vec()).collect();
+                        pts = self.curve_at(bc, nest)?.iter().flat_map(|c| c.control_points().to_vec()).collect();
                     } else if p.symbol_size > 0.0 {
                         let (sx, sy) = (frame.x_dir() * p.symbol_size, frame.y_dir() * p.symbol_size);
                         pts = vec![p.symbol - sx - sy, p.symbol + sx + sy];
@@ -536,19 +581,19 @@ impl Document {
                 s.to_nurbs(0.0..=TAU, -PI..=PI).map_err(&g)?
             }
             View::SurfaceOfRevolution(r) => {
-                let axis = self.curve(r.axis)?;
+                let axis = self.curve_at(r.axis, nest)?;
                 let (Some(a0), Some(a1)) =
                     (axis.first().map(|c| c.control_points()[0]), axis.last().and_then(|c| c.control_points().last()))
                 else {
                     return Err(unsupported(self, id, "axis of revolution is not a line"));
                 };
-                let gen = self.curve_joined(r.generatrix)?;
+                let gen = self.curve_joined_at(r.generatrix, nest)?;
                 let dom = gen.domain();
                 let rev = Revolution::try_new(gen, a0, a1 - a0).map_err(&g)?;
                 rev.to_nurbs(r.start_angle..=r.end_angle, dom).map_err(&g)?
             }
             View::TabulatedCylinder(t) => {
-                let dir = self.curve_joined(t.directrix)?;
+                let dir = self.curve_joined_at(t.directrix, nest)?;
                 let dom = dir.domain();
                 let start = dir.eval(*dom.start());
                 let d = t.end - start;
@@ -556,12 +601,12 @@ impl Document {
                 let ext = Extrusion::try_new(dir, d).map_err(&g)?;
                 ext.to_nurbs(dom, 0.0..=len).map_err(&g)?
             }
-            View::RuledSurface(r) => identity(self.ruled(&r, &g)?),
+            View::RuledSurface(r) => identity(self.ruled(&r, &g, nest)?),
             View::ParametricSplineSurface(s) => identity(spline_surface(&s).map_err(&g)?),
-            View::TrimmedSurface(t) => self.child_surface(t.surface, hint, depth)?,
-            View::BoundedSurface(b) => self.child_surface(b.surface, hint, depth)?,
-            View::Face(f) => self.child_surface(f.surface, hint, depth)?,
-            View::OffsetSurface(o) => self.offset_local(id, &o, hint, depth, None)?.0,
+            View::TrimmedSurface(t) => self.child_surface(t.surface, hint, nest)?,
+            View::BoundedSurface(b) => self.child_surface(b.surface, hint, nest)?,
+            View::Face(f) => self.child_surface(f.surface, hint, nest)?,
+            View::OffsetSurface(o) => self.offset_local(id, &o, hint, nest, None)?.0,
             _ => return Err(unsupported(self, id, "not a surface entity")),
         })
     }
@@ -597,7 +642,8 @@ impl Document {
             return Err(unsupported(self, id, "not an offset surface (140)"));
         };
         let (m, local_hint) = self.placement_and_hint(id)?;
-        let (mut s, fit) = self.offset_local(id, &o, &local_hint, 0, tolerance)?;
+        let visits = Cell::new(MAX_CURVE_VISITS);
+        let (mut s, fit) = self.offset_local(id, &o, &local_hint, Nest::new(&visits), tolerance)?;
         if m != Matrix4::identity() {
             s.surface.transform_by(&m);
         }
@@ -611,7 +657,7 @@ impl Document {
         id: EntityId,
         o: &crate::entity::OffsetSurface,
         hint: &[Point3<f64>],
-        depth: usize,
+        nest: Nest<'_>,
         tolerance: Option<f64>,
     ) -> Result<(ExactSurface, Option<FitNumbers>)> {
         let base = o.surface;
@@ -626,20 +672,20 @@ impl Document {
         let mb = self.transform(base)?;
         let lin: Matrix3<f64> = mb.fixed_view::<3, 3>(0, 0).into_owned();
         let rigid = (lin.transpose() * lin - Matrix3::identity()).abs().max() <= 1e-12;
-        if rigid && depth < MAX_DEPTH {
+        if rigid {
             let inv =
                 mb.try_inverse().ok_or(Error::Transform { de: base.0, reason: "singular transformation matrix" })?;
             let local: Vec<Point3<f64>> = hint.iter().map(|p| inv.transform_point(p)).collect();
             // A reflection turns the normal: offset the untransformed base the other way.
             let dl = if lin.determinant() < 0.0 { -d } else { d };
-            if let Some(mut s) = self.exact_offset(id, base, dl, &local, depth + 1)? {
+            if let Some(mut s) = self.exact_offset(id, base, dl, &local, nest)? {
                 if mb != Matrix4::identity() {
                     s.surface.transform_by(&mb);
                 }
                 return Ok((s, None));
             }
         }
-        let b = self.child_surface(base, hint, depth)?;
+        let b = self.child_surface(base, hint, nest)?;
         // (A base of size 0 has no normal: that error, not a bad tolerance.)
         let tol =
             tolerance.unwrap_or((offset::DEFAULT_RELATIVE_TOLERANCE * offset::size(&b.surface)).max(f64::MIN_POSITIVE));
@@ -669,13 +715,13 @@ impl Document {
         base: EntityId,
         d: f64,
         hint: &[Point3<f64>],
-        depth: usize,
+        nest: Nest<'_>,
     ) -> Result<Option<ExactSurface>> {
         let g = geometry(id);
         let through = || unsupported(self, id, "offset surface: the distance takes the radius to zero or below");
         Ok(Some(match self.view(base)? {
             View::Plane(_) | View::PlaneSurface(_) => {
-                let mut s = self.surface_local(base, hint, depth)?;
+                let mut s = self.surface_local(base, hint, nest)?;
                 let (ud, vd) = s.surface.domain();
                 let n = s
                     .surface
@@ -736,10 +782,10 @@ impl Document {
                 s.to_nurbs(0.0..=TAU, -PI..=PI).map_err(&g)?
             }
             View::SurfaceOfRevolution(r) => {
-                let Some(gen) = self.revolution_offset_generatrix(id, &r, d)? else {
+                let Some(gen) = self.revolution_offset_generatrix(id, &r, d, nest)? else {
                     return Ok(None);
                 };
-                let axis = self.curve(r.axis)?;
+                let axis = self.curve_at(r.axis, nest)?;
                 let (Some(a0), Some(a1)) =
                     (axis.first().map(|c| c.control_points()[0]), axis.last().and_then(|c| c.control_points().last()))
                 else {
@@ -762,6 +808,7 @@ impl Document {
         id: EntityId,
         r: &crate::entity::SurfaceOfRevolution,
         d: f64,
+        nest: Nest<'_>,
     ) -> Result<Option<NurbsCurve>> {
         let arc_center = match self.view(r.generatrix)? {
             View::Line(_) => None,
@@ -771,7 +818,7 @@ impl Document {
             }
             _ => return Ok(None),
         };
-        let axis = self.curve(r.axis)?;
+        let axis = self.curve_at(r.axis, nest)?;
         let (Some(a0), Some(a1)) =
             (axis.first().map(|c| c.control_points()[0]), axis.last().and_then(|c| c.control_points().last()))
         else {
@@ -782,7 +829,7 @@ impl Document {
             return Ok(None);
         }
         let k = k.normalize();
-        let mut gen = self.curve_joined(r.generatrix)?;
+        let mut gen = self.curve_joined_at(r.generatrix, nest)?;
         let dom = gen.domain();
         let (t0, t1) = (*dom.start(), *dom.end());
         let samples: Vec<Point3<f64>> = (0..=32).map(|i| gen.eval(t0 + (t1 - t0) * f64::from(i) / 32.0)).collect();
@@ -843,11 +890,11 @@ impl Document {
     }
 
     /// A child surface mapped into the parent's definition space.
-    fn child_surface(&self, id: EntityId, hint: &[Point3<f64>], depth: usize) -> Result<ExactSurface> {
+    fn child_surface(&self, id: EntityId, hint: &[Point3<f64>], nest: Nest<'_>) -> Result<ExactSurface> {
         let m = self.transform(id)?;
         let inv = m.try_inverse().ok_or(Error::Transform { de: id.0, reason: "singular transformation matrix" })?;
         let local: Vec<Point3<f64>> = hint.iter().map(|p| inv.transform_point(p)).collect();
-        let mut s = self.surface_local(id, &local, depth + 1)?;
+        let mut s = self.surface_local(id, &local, nest)?;
         if m != Matrix4::identity() {
             s.surface.transform_by(&m);
         }
@@ -877,6 +924,7 @@ impl Document {
         &self,
         r: &crate::entity::RuledSurface,
         g: &impl Fn(cadmorph_nurbs::Error) -> Error,
+        nest: Nest<'_>,
     ) -> Result<NurbsSurface> {
         let norm = |c: NurbsCurve| -> cadmorph_nurbs::Result<NurbsCurve> {
             let c = c.clamped();
@@ -890,8 +938,8 @@ impl Document {
                 c.weights().map(<[f64]>::to_vec),
             )
         };
-        let mut c1 = norm(self.curve_joined(r.curve1)?).map_err(g)?;
-        let mut c2 = norm(self.curve_joined(r.curve2)?).map_err(g)?;
+        let mut c1 = norm(self.curve_joined_at(r.curve1, nest)?).map_err(g)?;
+        let mut c2 = norm(self.curve_joined_at(r.curve2, nest)?).map_err(g)?;
         if r.reversed {
             c2 = norm(c2.reversed()).map_err(g)?;
         }
@@ -983,7 +1031,8 @@ impl Document {
         let inv =
             m.try_inverse().ok_or(Error::Transform { de: face.face.0, reason: "singular transformation matrix" })?;
         let local: Vec<Point3<f64>> = hint.iter().map(|p| inv.transform_point(p)).collect();
-        let mut s = self.child_surface(face.surface, &local, 0)?;
+        let visits = Cell::new(MAX_CURVE_VISITS);
+        let mut s = self.child_surface(face.surface, &local, Nest::new(&visits))?;
         if m != Matrix4::identity() {
             s.surface.transform_by(&m);
         }

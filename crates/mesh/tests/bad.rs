@@ -207,6 +207,46 @@ fn vtu_block_counts_beyond_the_file_are_refused() {
     }
 }
 
+/// Found by the `mesh_formats` fuzz target (issue 13 run): appended raw data whose UInt64
+/// block header says 2⁶⁴ − 1 bytes overflowed `header + count` (a panic in debug builds, a
+/// wrapped range in release). Refused as a block longer than the data.
+#[test]
+fn vtu_appended_raw_block_count_near_two_to_the_64_is_refused() {
+    use cadmorph_mesh::format::vtu::Vtu;
+    let mut xml = br#"<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64">
+<UnstructuredGrid><Piece NumberOfPoints="1" NumberOfCells="0">
+<Points><DataArray type="Float64" NumberOfComponents="3" format="appended" offset="0"/></Points>
+<Cells><DataArray type="Int64" Name="connectivity" format="ascii"></DataArray>
+<DataArray type="Int64" Name="offsets" format="ascii"></DataArray>
+<DataArray type="UInt8" Name="types" format="ascii"></DataArray></Cells>
+</Piece></UnstructuredGrid>
+<AppendedData encoding="raw">
+_"#
+    .to_vec();
+    xml.extend_from_slice(&[0xff; 8]);
+    xml.extend_from_slice(&[0x41; 24]);
+    xml.extend_from_slice(b"\n</AppendedData>\n</VTKFile>\n");
+    let e = Vtu::parse(&xml).unwrap_err();
+    let m = message(&e);
+    assert!(m.contains("bytes of data, but the block is shorter"), "{m}");
+}
+
+/// Found by the `mesh_formats` fuzz target (issue 13 run): a legacy VTK cell count of
+/// 2⁶⁴ − 1 was allocated for (an abort on allocation) before the list was read. Refused at
+/// its line.
+#[test]
+fn legacy_vtk_cell_counts_beyond_the_file_are_refused() {
+    for kw in ["LINES", "CELLS", "POLYGONS"] {
+        let text = format!(
+            "# vtk DataFile Version 4.2\nhuge\nASCII\nDATASET POLYDATA\nPOINTS 1 float\n0 0 0\n{kw} 18446744073709551615 0\n"
+        );
+        let e = VtkLegacy::parse(&text).unwrap_err();
+        let m = message(&e);
+        assert!(m.contains("line 7") && m.contains("a cell count the file can hold"), "{kw}: {m}");
+    }
+}
+
 /// Found by the `mesh_formats` fuzz target: an MSH 2.2 element record with a huge tag
 /// count overflowed `3 + ntags` (and a negative count would have been read as huge).
 #[test]

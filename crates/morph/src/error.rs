@@ -143,6 +143,20 @@ pub enum Error {
         /// The budget in force, in bytes.
         limit: u64,
     },
+    /// An FFD lattice larger than one deformation evaluates: a dimension over
+    /// [`crate::ffd::MAX_NODES_PER_AXIS`] (the Bernstein degree `f64` holds), or a node
+    /// count over [`crate::ffd::MAX_NODES`] (the work per deformed point).
+    #[error("{}", lattice_message(*line, shape, *axis, *limit))]
+    LatticeTooLarge {
+        /// Line of the lattice size, if it came from a file.
+        line: Option<usize>,
+        /// The lattice size asked for.
+        shape: [usize; 3],
+        /// The dimension over its limit (0 = x, 1 = y, 2 = z), or `None` for the node count.
+        axis: Option<usize>,
+        /// The limit exceeded.
+        limit: usize,
+    },
     /// A parameter file is not valid UTF-8.
     #[error("byte {offset} (line {line}): not valid UTF-8 text")]
     Encoding {
@@ -180,6 +194,23 @@ pub enum Error {
 
 /// `Result` with this crate's [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// `line 4: FFD lattice 200x200x200: nodes in all = 8000000, over the limit of 262144 (...)`.
+fn lattice_message(line: Option<usize>, shape: &[usize; 3], axis: Option<usize>, limit: usize) -> String {
+    let at = line.map(|l| format!("line {l}: ")).unwrap_or_default();
+    let [l, m, n] = *shape;
+    let (name, value, why) = match axis {
+        Some(a) => (
+            format!("n control points {}", ["x", "y", "z"][a.min(2)]),
+            shape[a.min(2)] as u128,
+            "Bernstein polynomials of a higher degree overflow f64",
+        ),
+        None => {
+            ("nodes in all".to_owned(), l as u128 * m as u128 * n as u128, "each deformed point sums over every node")
+        }
+    };
+    format!("{at}FFD lattice {l}x{m}x{n}: {name} = {value}, over the limit of {limit} ({why})")
+}
 
 #[cfg(test)]
 mod tests {

@@ -14,6 +14,17 @@ use crate::{affine::rotation_matrix, Deformation, Error, LinearInParameters, Res
 /// when rounding puts them a hair outside (PyGeM issue 272).
 pub const FACE_TOL: f64 = 1e-12;
 
+/// The most lattice nodes along one axis: the Bernstein polynomials of degree `n − 1`
+/// have binomial coefficients up to `C(n − 1, (n − 1)/2)`, which stays finite in `f64`
+/// to degree 1029 only (beyond, every deformed point came out NaN and the morph failed on
+/// a "folded" Jacobian).
+pub const MAX_NODES_PER_AXIS: usize = 1024;
+
+/// The most lattice nodes in all (64 × 64 × 64): every deformed point sums over every
+/// node, so a 200 × 200 × 200 lattice (192 MB, within the memory budget) costs 24 million
+/// products per point, minutes for a model of a few thousand control points.
+pub const MAX_NODES: usize = 1 << 18;
+
 /// Lattice displacements μ of an L×M×N FFD, in units of the box length along each rotated
 /// box axis: PyGeM's `array_mu_x`, `array_mu_y`, `array_mu_z`.
 ///
@@ -135,7 +146,10 @@ impl Ffd {
     /// # Errors
     ///
     /// [`Error::InvalidParameter`] when a lattice dimension is below 2, a box length is not
-    /// positive and finite, or the origin or an angle is not finite.
+    /// positive and finite, or the origin or an angle is not finite;
+    /// [`Error::TooLarge`] when the lattice's displacements would not fit the memory
+    /// [budget](crate::budget); [`Error::LatticeTooLarge`] when a dimension exceeds
+    /// [`MAX_NODES_PER_AXIS`] or all of them [`MAX_NODES`].
     pub fn try_new(
         n_control_points: [usize; 3],
         box_origin: Point3<f64>,
@@ -155,6 +169,18 @@ impl Ffd {
         let [l, m, n] = n_control_points;
         // Three μ components per node, checked before the allocation and without wrapping.
         crate::budget::check(&format!("FFD lattice {l}x{m}x{n}"), &[l, m, n, 3], std::mem::size_of::<f64>())?;
+        if let Some(axis) = n_control_points.iter().position(|&k| k > MAX_NODES_PER_AXIS) {
+            return Err(Error::LatticeTooLarge {
+                line: None,
+                shape: n_control_points,
+                axis: Some(axis),
+                limit: MAX_NODES_PER_AXIS,
+            });
+        }
+        // Within MAX_NODES_PER_AXIS each, the product does not wrap.
+        if l * m * n > MAX_NODES {
+            return Err(Error::LatticeTooLarge { line: None, shape: n_control_points, axis: None, limit: MAX_NODES });
+        }
         let mut ffd = Ffd {
             box_origin,
             box_length,
@@ -1047,8 +1073,9 @@ pub(crate) fn bernstein(deg: usize, t: f64, out: &mut [f64]) {
     for i in (0..=deg).rev() {
         out[i] *= binom * sp;
         sp *= s;
-        // C(deg, i − 1) = C(deg, i) · i / (deg − i + 1)
-        binom = binom * i as f64 / (deg - i + 1) as f64;
+        // C(deg, i − 1) = C(deg, i) · i / (deg − i + 1), the ratio first: near the middle
+        // of degree 1023, C · i overflows where C · (i / (deg − i + 1)) does not.
+        binom *= i as f64 / (deg - i + 1) as f64;
     }
 }
 

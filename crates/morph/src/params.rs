@@ -185,6 +185,9 @@ fn at_line(e: Error, line: usize) -> Error {
         Error::InvalidParameter { line: None, name, value, reason } => {
             Error::InvalidParameter { line: Some(line), name, value, reason }
         }
+        Error::LatticeTooLarge { line: None, shape, axis, limit } => {
+            Error::LatticeTooLarge { line: Some(line), shape, axis, limit }
+        }
         other => other,
     }
 }
@@ -245,7 +248,10 @@ impl Parameters {
                 Vector3::from(f.box_length),
                 Vector3::from(f.rot_angle),
             )
-            .map_err(|e| at_line(e, line_of(text, "n_control_points").max(line_of(text, "box_length"))))?;
+            .map_err(|e| match e {
+                e @ Error::LatticeTooLarge { .. } => at_line(e, line_of(text, "n_control_points")),
+                e => at_line(e, line_of(text, "n_control_points").max(line_of(text, "box_length"))),
+            })?;
             let n = f.n_control_points.iter().product::<usize>();
             let fill = |v: Vec<f64>| if v.is_empty() { vec![0.0; n] } else { v };
             for (key, v) in [("mu_x", &f.mu_x), ("mu_y", &f.mu_y), ("mu_z", &f.mu_z)] {

@@ -121,6 +121,11 @@ impl VtkLegacy {
                 "CELLS" | "POLYGONS" | "VERTICES" | "LINES" | "TRIANGLE_STRIPS" => {
                     let upper = kw.to_ascii_uppercase();
                     let n: usize = w.num("a cell count")?;
+                    // Every cell takes at least a character: a larger count is false (and
+                    // was allocated for before anything else was read).
+                    if n > text.len() {
+                        return Err(Error::syntax(w.line(at), "a cell count the file can hold", &n.to_string()));
+                    }
                     let size: usize = w.num("a cell list size")?;
                     if size > text.len() {
                         return Err(Error::syntax(w.line(at), "a list size the file can hold", &size.to_string()));

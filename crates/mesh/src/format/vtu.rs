@@ -139,7 +139,11 @@ impl Vtu {
         let h = self.header_len();
         if !self.compressed {
             let n = self.read_uint(bin, 0).ok_or_else(|| bad("a block byte count".into()))?;
-            let data = bin.get(h..h + n).ok_or_else(|| bad(format!("{n} bytes of data, but the block is shorter")))?;
+            // A count near 2^64 (appended raw data, header UInt64) must not wrap `h + n`.
+            let data = h
+                .checked_add(n)
+                .and_then(|end| bin.get(h..end))
+                .ok_or_else(|| bad(format!("{n} bytes of data, but the block is shorter")))?;
             return Ok((data.to_vec(), h + n));
         }
         let nb = self.read_uint(bin, 0).ok_or_else(|| bad("a compression header".into()))?;

@@ -132,7 +132,7 @@ impl Ffd {
 
 fn ffd_from_ini(ini: &Ini) -> Result<Ffd> {
     let bx = ini.require(FFD_BOX)?;
-    let int = |key: &'static str| -> Result<usize> {
+    let int = |key: &'static str| -> Result<(usize, usize)> {
         let v = bx.require(FFD_BOX, key)?.scalar()?;
         let n = parse_usize(&v.text, v.line)?;
         if n < 2 {
@@ -143,13 +143,14 @@ fn ffd_from_ini(ini: &Ini) -> Result<Ffd> {
                 reason: "each lattice dimension must be at least 2",
             });
         }
-        Ok(n)
+        Ok((n, v.line))
     };
     let float = |key: &'static str, name: &'static str| -> Result<(f64, usize)> {
         let v = bx.require(FFD_BOX, key)?.scalar()?;
         Ok((parse_finite(&v.text, v.line, name)?, v.line))
     };
-    let shape = [int("n control points x")?, int("n control points y")?, int("n control points z")?];
+    let sizes = [int("n control points x")?, int("n control points y")?, int("n control points z")?];
+    let shape = sizes.map(|(n, _)| n);
     let mut length = [0.0; 3];
     for (slot, key) in length.iter_mut().zip(["box length x", "box length y", "box length z"]) {
         let (v, line) = float(key, "box length")?;
@@ -173,7 +174,16 @@ fn ffd_from_ini(ini: &Ini) -> Result<Ffd> {
         float("rotation angle y", "rotation angle")?.0,
         float("rotation angle z", "rotation angle")?.0,
     ];
-    let mut ffd = Ffd::try_new(shape, Point3::from(origin), Vector3::from(length), Vector3::from(angle))?;
+    let mut ffd = Ffd::try_new(shape, Point3::from(origin), Vector3::from(length), Vector3::from(angle)).map_err(
+        |e| match e {
+            // The line of the dimension over its limit, else of the last dimension.
+            Error::LatticeTooLarge { line: None, shape, axis, limit } => {
+                let line = Some(sizes[axis.unwrap_or(2).min(2)].1);
+                Error::LatticeTooLarge { line, shape, axis, limit }
+            }
+            other => other,
+        },
+    )?;
     let w = ini.require(FFD_WEIGHTS)?;
     let mut mu = Displacements::zeros(shape);
     for (key, target) in [("parameter x", 0), ("parameter y", 1), ("parameter z", 2)] {
