@@ -230,7 +230,6 @@ mod tests {
     use super::*;
     use cadmorph_morph::from_fn;
     use cadmorph_nurbs::{Curve, KnotVector, SurfaceProject};
-    use std::time::{Duration, Instant};
 
     const R: f64 = 1000.0;
 
@@ -266,17 +265,6 @@ mod tests {
         (face, circle)
     }
 
-    fn fastest<T>(f: impl Fn() -> T) -> (T, Duration) {
-        let mut best = Duration::MAX;
-        let mut out = None;
-        for _ in 0..3 {
-            let start = Instant::now();
-            out = Some(f());
-            best = best.min(start.elapsed());
-        }
-        (out.expect("ran"), best)
-    }
-
     #[test]
     fn a_curve_off_its_faceted_face_is_traced_by_local_projections() {
         let (before, c) = faceted_face_and_circle();
@@ -285,7 +273,7 @@ mod tests {
         d.deform(after.control_points_mut());
         let size = before.control_extent();
         let tol = 1e-7 * size;
-        let (traced, took) = fastest(|| follow_face(&c, &before, &after, &d, tol).expect("traced"));
+        let traced = follow_face(&c, &before, &after, &d, tol).expect("traced");
         // The image through the closest point of the whole face (the global search):
         // the traced curve follows it within the fit's tolerance.
         let global = |t: f64| {
@@ -295,11 +283,7 @@ mod tests {
         let worst =
             (0..=400).map(|k| k as f64 / 400.0).map(|t| (traced.eval(t) - global(t)).norm()).fold(0.0, f64::max);
         assert!(worst <= 2.0 * tol, "traced curve off the morphed face's image by {worst:e} (tol {tol:e})");
-        // The whole trace costs less than 300 global searches (it used to search globally
-        // at every one of its thousands of samples, as the circle is off the facets by more
-        // than 1e-6 of the size).
-        let (_, global_cost) =
-            fastest(|| (0..300).map(|k| global(k as f64 / 299.0)).fold(0.0, |a, p| a + p.coords.norm()));
-        assert!(took < global_cost, "trace took {took:?}, 300 global projections {global_cost:?}");
+        // Its speed (local projections instead of a global search per sample: PyGeM's
+        // pipe under fuzz_small.prm 32.7 s -> 0.5 s) is a benchmark's to show, not a test's.
     }
 }
