@@ -81,12 +81,19 @@ def _pythonocc_spellings():
     tools.OuterWire = staticmethod(lambda f: outer(cast(f)))
 
 
+_CAD = None
+
+
 def _pygem():
-    sys.path.insert(0, os.path.join(ROOT, "benches", "blade", "occ_shim"))
-    _pythonocc_spellings()
-    sys.path.insert(0, os.environ["PYGEM_DIR"])
-    import pygem.cad
-    return pygem.cad
+    """`pygem.cad`, with the shim and the spellings set up once per process."""
+    global _CAD
+    if _CAD is None:
+        sys.path.insert(0, os.path.join(ROOT, "benches", "blade", "occ_shim"))
+        _pythonocc_spellings()
+        sys.path.insert(0, os.environ["PYGEM_DIR"])
+        import pygem.cad
+        _CAD = pygem.cad
+    return _CAD
 
 
 ENTRY = re.compile(r"^mu_([xyz])\[(\d+),(\d+),(\d+)\]$")

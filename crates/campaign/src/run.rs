@@ -161,6 +161,9 @@ pub struct Prepared {
     theta0: Vec<f64>,
     basis: Basis,
     stem: String,
+    /// How each face's volume and area are integrated, told once on the refined base
+    /// (a morph keeps them), or why they cannot be.
+    methods: std::result::Result<Vec<cadmorph_hull::FaceMethod>, String>,
     /// How the refined base was made.
     pub refinement: Refinement,
     /// Wall time of the offline phase of this process (refined base loaded or made,
@@ -182,6 +185,14 @@ impl Prepared {
             model.patches().iter().flat_map(|p| p.surface.control_points().iter().copied()).collect();
         let base = Base::new(&space.deformation)?;
         let basis = Basis::new(&base, &space.parameters, points);
+        let by_face = cadmorph_hull::volume::bounds_by_face(model.patches().len(), model.bound_curves());
+        let methods = model
+            .patches()
+            .iter()
+            .zip(&by_face)
+            .map(|(f, b)| cadmorph_hull::volume::face_method(f, b, model.size()))
+            .collect::<std::result::Result<Vec<_>, _>>()
+            .map_err(|e| e.to_string());
         let stem =
             space.geometry.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "variant".into());
         Ok(Prepared {
@@ -191,6 +202,7 @@ impl Prepared {
             base,
             basis,
             stem,
+            methods,
             refinement,
             offline_ms: start.elapsed().as_secs_f64() * 1e3,
         })
@@ -281,15 +293,23 @@ impl Prepared {
         };
         let t_verify = start.elapsed();
         report.timings.verify_ms = (t_verify - t_write).as_secs_f64() * 1e3;
-        report.measures = Some(measures(&model));
+        report.measures = Some(measures(&model, &self.methods));
         report.timings.measure_ms = (start.elapsed() - t_verify).as_secs_f64() * 1e3;
         Ok(())
     }
 }
 
-/// Volume and area of `model`'s faces (see [`Measures`]).
-fn measures(model: &cadmorph::Model) -> Measures {
-    match cadmorph_hull::enclosed(model.patches(), model.bound_curves(), model.size()) {
+/// Volume and area of `model`'s faces (see [`Measures`]), each face integrated as
+/// `methods` says.
+fn measures(
+    model: &cadmorph::Model,
+    methods: &std::result::Result<Vec<cadmorph_hull::FaceMethod>, String>,
+) -> Measures {
+    let methods = match methods {
+        Ok(m) => m,
+        Err(e) => return Measures { volume: None, area: None, note: Some(e.clone()) },
+    };
+    match cadmorph_hull::volume::enclosed_with(model.patches(), model.bound_curves(), model.size(), methods) {
         Ok(e) => Measures { volume: Some(e.total.volume), area: Some(e.total.area), note: None },
         // An open shell (such as a half hull without its deck) still has an area.
         Err(e @ cadmorph_hull::Error::OpenShell { area, .. }) => {

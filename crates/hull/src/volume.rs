@@ -240,12 +240,6 @@ fn span_rule(breaks: &[f64], lo: f64, hi: f64, n: usize, split: usize) -> Vec<(f
     out
 }
 
-/// Quadrature over the whole domain of `s`: `(u, v, weight)`, each direction by `rule`.
-fn surface_rule_by(s: &NurbsSurface, rule: fn(usize, bool) -> (usize, usize)) -> Vec<(f64, f64, f64)> {
-    let (ud, vd) = s.domain();
-    box_rule(s, [*ud.start(), *ud.end(), *vd.start(), *vd.end()], rule)
-}
-
 /// Quadrature over the parameter box `[u0, u1] × [v0, v1]` of `s`, each direction by
 /// `rule` on every knot span inside the box.
 fn box_rule(s: &NurbsSurface, b: [f64; 4], rule: fn(usize, bool) -> (usize, usize)) -> Vec<(f64, f64, f64)> {
@@ -273,7 +267,8 @@ fn area_density(s: &NurbsSurface, u: f64, v: f64) -> f64 {
 
 /// Quadrature over the whole domain of `s` exact for the volume integrands.
 fn surface_rule(s: &NurbsSurface) -> Vec<(f64, f64, f64)> {
-    surface_rule_by(s, rule)
+    let (ud, vd) = s.domain();
+    box_rule(s, [*ud.start(), *ud.end(), *vd.start(), *vd.end()], rule)
 }
 
 /// The share of a natural face (whole domain), with `sign` = ±1 turning `S_u × S_v` into

@@ -18,7 +18,7 @@ use cadmorph_model::{Model, MorphOptions};
 use cadmorph_morph::math::{Point3, Vector3};
 use cadmorph_morph::Ffd;
 use cadmorph_nurbs::{Surface, SurfaceProject};
-use cadmorph_testkit::sample;
+use cadmorph_testkit::{sample, Scratch};
 use nalgebra::Unit;
 
 fn root() -> PathBuf {
@@ -32,9 +32,8 @@ fn signed_volume(p: &[Point3<f64>], t: &[usize]) -> f64 {
 #[test]
 #[ignore = "needs gmsh (the venv of tests/mesh/setup.sh)"]
 fn gmsh_tetrahedra_around_the_hull_follow_the_cad_morph() {
-    let dir = std::env::temp_dir().join(format!("cadmorph-gmsh-hull-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let msh_path = dir.join("hull.msh");
+    let scratch = Scratch::new("gmsh-hull");
+    let msh_path = scratch.dir().join("hull.msh");
     let out = Command::new(root().join("tests/mesh/.venv/bin/python"))
         .arg(root().join("tests/mesh/hull_tets.py"))
         .arg(sample("hull3.stp"))
@@ -131,5 +130,4 @@ fn gmsh_tetrahedra_around_the_hull_follow_the_cad_morph() {
     assert!(worst_after <= 1e-9 * length, "{worst_after:e}");
     assert_eq!(inverted, 0);
     assert!(min_ratio > 0.0);
-    std::fs::remove_dir_all(&dir).unwrap();
 }

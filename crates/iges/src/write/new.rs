@@ -2,7 +2,7 @@
 
 use cadmorph_nurbs::{NurbsCurve, NurbsSurface};
 
-use super::{layout, put_number, seq};
+use super::{layout, layout_record, put_number, seq};
 use crate::document::{Document, EntityId, Status, Value};
 use crate::edit::{bspline_curve_values, bspline_surface_values};
 use crate::global::Units;
@@ -205,7 +205,7 @@ impl DocumentBuilder {
             Value::Integer(0),
             t(&stamp),
         ];
-        let g_lines: Vec<Vec<u8>> = layout(&global, b',', b';', G_WIDTH).lines().map(<[u8]>::to_vec).collect();
+        let g_lines = layout_record(&global, b',', b';', G_WIDTH);
         for (k, l) in g_lines.iter().enumerate() {
             line(&mut out, l, 72, format!("G{}", seq(k + 1, true)).as_bytes());
         }
