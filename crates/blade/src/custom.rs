@@ -76,6 +76,12 @@ impl Profile {
         if wide && lines.len() > 1 {
             let names: Vec<String> =
                 lines[0].1.split(',').map(|s| s.trim().trim_end_matches(':').to_uppercase()).collect();
+            if names.len() != 4 {
+                return Err(Error::profile(
+                    format!("line {}", lines[0].0),
+                    format!("a header of 4 comma-separated column names, found {}", names.len()),
+                ));
+            }
             cols = names.into_iter().map(|n| (n, Vec::new())).collect();
             for (no, l) in &lines[1..] {
                 for (k, cell) in l.split(',').enumerate() {

@@ -66,6 +66,10 @@ pub fn naca(code: &str, options: NacaOptions) -> Result<Profile> {
     if options.n_points < 2 {
         return Err(code_error(code, format!("n_points = {} (at least 2)", options.n_points)));
     }
+    // About a dozen arrays of n_points each are built here and by the profile's curve:
+    // a size from a table is checked against the memory budget before any is allocated.
+    cadmorph_morph::budget::check("NACA n_points", &[options.n_points, 16], 8)
+        .map_err(|e| code_error(code, e.to_string()))?;
     let (a0, a1, a2, a3) = (0.2969, -0.1260, -0.3516, 0.2843);
     let a4 = if options.closed_trailing_edge { -0.1036 } else { -0.1015 };
     let x = linspace(0.0, 1.0, options.n_points);

@@ -102,6 +102,10 @@ impl Propeller {
         if n == 0 {
             return Err(Error::Geometry("a propeller needs at least one blade".into()));
         }
+        // Each copy holds every pole (and weight) of the blade's faces.
+        let poles: usize = blade.faces().iter().map(|f| f.control_points().len()).sum();
+        cadmorph_morph::budget::check("propeller blades", &[n, poles, 4], 8)
+            .map_err(|e| Error::Geometry(e.to_string()))?;
         let blades = (0..n)
             .map(|k| {
                 let mut b = blade.clone();

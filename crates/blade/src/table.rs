@@ -240,6 +240,8 @@ impl DesignTable {
                     closed_trailing_edge: true,
                 });
                 let prof = spec.build(&self.base).map_err(|e| Error::table("profile", None, e.to_string()))?;
+                cadmorph_morph::budget::check("sections × profile points", &[n, prof.xup.len(), 4], 8)
+                    .map_err(|e| Error::table("radii", None, e.to_string()))?;
                 vec![prof; n]
             }
         };

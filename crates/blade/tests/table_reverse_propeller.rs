@@ -54,6 +54,23 @@ fn bad_tables_name_field_and_section() {
     }
 }
 
+/// Sizes from a table are checked before anything is allocated, and malformed profile
+/// CSV is refused with its line (both found by `scripts/fuzz ... blade_inputs`).
+#[test]
+fn hostile_sizes_and_csv_are_refused() {
+    let e = bad(|t| t.replace("naca = \"0012\"", "naca = \"0012\"\nn_points = 4000000000000000000"));
+    assert!(matches!(&e, Error::Table { field, .. } if field == "profile"), "{e}");
+    assert!(e.to_string().contains("NACA n_points"), "{e}");
+    // A header of one column over rows of four (the fuzzer's crash input, shortened).
+    let e = cadmorph_blade::Profile::from_csv("!x\n0, 13.0, 150, 9.\n").unwrap_err();
+    assert!(e.to_string().contains("line 1"), "{e}");
+    assert!(e.to_string().contains("4 comma-separated column names"), "{e}");
+    let b = table().blade().unwrap();
+    let s = BladeSolid::from_coordinates(&b.apply_transformations(true).unwrap(), 3, 3).unwrap();
+    let e = Propeller::new(&s, usize::MAX / 2, 0.4, -0.8, 0.8).unwrap_err();
+    assert!(e.to_string().contains("propeller blades"), "{e}");
+}
+
 #[test]
 fn reverse_recovers_the_table() {
     let t = table();
