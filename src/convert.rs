@@ -1,50 +1,72 @@
 //! Conversion between IGES and STEP: a model's faces written as a new document of the
 //! other format.
 //!
-//! What converts today: faces bounded by their surface's own boundary (untrimmed IGES
-//! 128/144 faces, STEP faces whose loops run along the surface's sides), written as
-//! their exact NURBS form (analytic surfaces too: they become rational B-splines), in
-//! the same length unit. STEP output is one shell whose faces share the edges and
-//! vertices that coincide; IGES output is one 128 per face. A face trimmed inside its
-//! surface is refused ([`Error::Unsupported`]) rather than written without its trims, and
-//! so is a document with curves outside faces (wireframe), or without faces.
+//! Every face converts, written as its exact NURBS surface (analytic surfaces too: they
+//! become rational B-splines) in the same length unit:
+//! - when every face is its whole surface (untrimmed IGES 128/144 faces, STEP faces whose
+//!   loops run along the surface's sides), STEP output is one shell whose faces share
+//!   the edges and vertices that coincide and IGES output is one 128 per face;
+//! - otherwise each trimmed face keeps its loops ([`crate::loops`]): STEP writes an
+//!   ADVANCED_FACE per face with shared EDGE_CURVEs carrying a PCURVE on each side
+//!   (a CLOSED_SHELL in a MANIFOLD_SOLID_BREP when every edge is used twice, else an
+//!   OPEN_SHELL), IGES a 144 per trimmed face whose 142 bounds carry model and
+//!   parameter-space curves (IGES 5.3 §4.32, §4.34).
+//!
+//! A document with curves outside faces (wireframe), or without faces, is refused
+//! ([`Error::Unsupported`]) rather than written without them; a face whose loops cannot
+//! be closed is refused with [`Error::Convert`] naming it.
 
 use std::path::Path;
 
-use cadmorph_brep::{CadDocument, Format, ReadDocument};
+use cadmorph_brep::{BoundedFace, CadDocument, Format, ReadDocument};
 use cadmorph_model::{write_atomic, Error, Model, Result};
 use cadmorph_nurbs::{Curve, CurveProject, NurbsSurface, Side};
 
 /// Whether every bound curve of face `i` runs along one of its surface's four sides
-/// (within `tol`, checked at 5 points each): the face is its whole surface.
+/// (within `tol`, all of it along the same side, checked at 9 points unevenly spaced so
+/// that a curve touching the sides at a few points, like a circle in the square patch of
+/// its plane, is not taken for them): the face is its whole surface.
 fn is_natural<D: CadDocument>(m: &Model<D>, i: usize, tol: f64) -> bool {
+    const AT: [f64; 9] = [0.0, 0.0917, 0.2113, 0.3371, 0.5, 0.6629, 0.7887, 0.9083, 1.0];
     let s = &m.patches()[i].surface;
     let sides: Vec<_> = [Side::UMin, Side::UMax, Side::VMin, Side::VMax].into_iter().map(|k| s.boundary(k)).collect();
     m.bound_curves().iter().filter(|b| b.face == i).all(|b| {
-        (0..5).all(|k| {
-            let t = b.range.0 + (b.range.1 - b.range.0) * k as f64 / 4.0;
-            let p = b.curve.eval(t);
-            sides.iter().any(|c| c.project(&p, tol * 1e-3).distance_sq <= tol * tol)
-        })
+        let points: Vec<_> = AT.iter().map(|f| b.curve.eval(b.range.0 + (b.range.1 - b.range.0) * f)).collect();
+        sides.iter().any(|c| points.iter().all(|p| c.project(p, tol * 1e-3).distance_sq <= tol * tol))
     })
 }
 
-/// The faces of `m` as untrimmed NURBS surfaces, or [`Error::Unsupported`] for a face
-/// trimmed inside its surface.
-fn surfaces<D: CadDocument>(m: &Model<D>) -> Result<Vec<NurbsSurface>> {
+/// What a model's faces become in the other format.
+enum Faces {
+    /// Every face is its whole surface.
+    Natural(Vec<NurbsSurface>),
+    /// Some face is trimmed inside its surface: every face with its loops, and whether
+    /// it is its whole surface.
+    Bounded(Vec<BoundedFace>, Vec<bool>),
+}
+
+/// The faces of `m`: their surfaces when every face is its whole surface, else every
+/// face bounded by its loops ([`crate::loops`]).
+fn faces<D: CadDocument>(m: &Model<D>, tol: f64) -> Result<Faces> {
     if m.patches().is_empty() || !m.free_curves().is_empty() {
         // Wireframe (curves outside faces) does not convert yet; refuse rather than drop it.
         return Err(Error::Unsupported("converting curves outside faces (only faces convert yet)"));
     }
-    let tol = 1e-6 * m.size().max(f64::MIN_POSITIVE);
-    for (i, f) in m.patches().iter().enumerate() {
-        if f.trimmed && !is_natural(m, i, tol) {
-            return Err(Error::Unsupported(
-                "converting a face trimmed inside its surface (only untrimmed faces convert yet)",
-            ));
-        }
+    let side_tol = 1e-6 * m.size().max(f64::MIN_POSITIVE);
+    let natural: Vec<bool> =
+        m.patches().iter().enumerate().map(|(i, f)| !f.trimmed || is_natural(m, i, side_tol)).collect();
+    if natural.iter().all(|&n| n) {
+        return Ok(Faces::Natural(m.patches().iter().map(|f| f.surface.clone()).collect()));
     }
-    Ok(m.patches().iter().map(|f| f.surface.clone()).collect())
+    let mut out = Vec::with_capacity(natural.len());
+    for (i, f) in m.patches().iter().enumerate() {
+        out.push(if natural[i] {
+            BoundedFace::natural(f.surface.clone(), f.reversed, tol)
+        } else {
+            crate::loops::bounded_face(m, i, tol)?
+        });
+    }
+    Ok(Faces::Bounded(out, natural))
 }
 
 /// The IGES unit of `metres` per unit (IGES 5.3 §2.2.4.3, global parameter 14), if
@@ -60,27 +82,52 @@ fn iges_units(metres: f64) -> Option<crate::iges::Units> {
 ///
 /// # Errors
 ///
-/// [`Error::Unsupported`] for trimmed faces or a length unit IGES has no flag for; the
-/// writer's errors.
+/// [`Error::Unsupported`] for wireframe, a document without faces or a length unit IGES
+/// has no flag for; [`Error::Convert`] for a face whose loops do not close; the writer's
+/// errors.
 pub fn convert<D: CadDocument>(m: &Model<D>, format: Format) -> Result<Box<dyn CadDocument>> {
-    let faces = surfaces(m)?;
     let units = m.units();
     let tol = units.uncertainty.unwrap_or(1e-7 * m.size()).max(1e-9 * m.size());
+    // Curve ends closer than this are one vertex: the file's own precision, at least
+    // 1e-6 of the model's size (writers leave gaps of their tolerance at loop joints).
+    let join = (10.0 * tol).max(1e-6 * m.size());
+    let faces = faces(m, join)?;
     Ok(match format {
         Format::Step => {
             let wrap = |e| Error::Document(cadmorph_brep::Error::new(Format::Step, e));
             let mut b =
                 crate::step::DocumentBuilder::new(crate::step::Schema::Ap214, "cadmorph", units.metres_per_unit, tol)
                     .map_err(wrap)?;
-            b.add_shell(&faces, 1e-6 * m.size());
+            match &faces {
+                Faces::Natural(s) => {
+                    b.add_shell(s, 1e-6 * m.size());
+                }
+                Faces::Bounded(f, _) => {
+                    b.add_bounded_faces(f, join).map_err(wrap)?;
+                }
+            }
             Box::new(b.build().map_err(wrap)?)
         }
         Format::Iges => {
             let u =
                 iges_units(units.metres_per_unit).ok_or(Error::Unsupported("a length unit IGES has no flag for"))?;
             let mut b = crate::iges::write::DocumentBuilder::new(u).resolution(tol);
-            for s in &faces {
-                b.add_surface(s);
+            match &faces {
+                Faces::Natural(s) => {
+                    for s in s {
+                        b.add_surface(s);
+                    }
+                }
+                Faces::Bounded(f, natural) => {
+                    for (face, &whole) in f.iter().zip(natural) {
+                        if whole {
+                            b.add_surface(&face.surface);
+                        } else {
+                            b.add_trimmed_face(face, join)
+                                .map_err(|e| Error::Document(cadmorph_brep::Error::new(Format::Iges, e)))?;
+                        }
+                    }
+                }
             }
             Box::new(<crate::iges::Document as ReadDocument>::from_bytes(&b.to_bytes())?)
         }

@@ -32,6 +32,7 @@
 //! ```
 
 mod convert;
+mod loops;
 
 use std::path::Path;
 

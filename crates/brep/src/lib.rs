@@ -34,7 +34,9 @@ mod document;
 mod entity;
 mod error;
 mod face;
+pub mod pcurve;
 pub mod real;
+mod shell;
 mod units;
 
 pub use curve::{BoundCurve, FreeCurve};
@@ -42,6 +44,7 @@ pub use document::{CadDocument, ReadDocument};
 pub use entity::{EntityRef, Format};
 pub use error::{chain, Error, Result};
 pub use face::{Face, FaceSet, Skipped, SurfaceKind};
+pub use shell::{BoundedFace, Shell, ShellEdge, PCURVE_TOLS};
 pub use units::Units;
 
 /// Vectors and matrices (nalgebra), as `cadmorph_nurbs::math`.

@@ -105,6 +105,14 @@ pub enum Error {
     /// Something this version cannot do yet.
     #[error("{0}")]
     Unsupported(&'static str),
+    /// A face cannot be written in another format (its bounds do not form closed loops).
+    #[error("converting face {face}: {reason}")]
+    Convert {
+        /// The face entity.
+        face: cadmorph_brep::EntityRef,
+        /// What is wrong with its bounds.
+        reason: String,
+    },
 }
 
 /// Result with the model's [`Error`].

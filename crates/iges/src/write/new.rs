@@ -260,3 +260,5 @@ impl DocumentBuilder {
         Document::parse(&self.to_bytes()).expect("cadmorph writes readable IGES")
     }
 }
+
+mod trimmed;

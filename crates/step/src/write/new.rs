@@ -291,4 +291,5 @@ impl DocumentBuilder {
     }
 }
 
+mod bounded;
 mod solid;

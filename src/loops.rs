@@ -1,0 +1,258 @@
+//! A trimmed face's bound curves chained into closed loops, for writing it in the other
+//! format ([`cadmorph_brep::BoundedFace`]).
+//!
+//! The documents give a face's bound curves (IGES 142 model curves and their 102 pieces,
+//! 504 edges of 508 loops, STEP `EDGE_CURVE`s of `EDGE_LOOP`s) as model-space curves with
+//! the part of each that bounds the face. Here each is cut to that part, the pieces are
+//! chained end to start into closed loops (nearest end first, within the chaining
+//! tolerance; the two ends at a joint are made one point), and each loop is measured in
+//! the surface's parameters by its signed area (the shoelace formula over points
+//! projected onto the surface): the loop of largest area is the outer one and runs
+//! counterclockwise around the face normal, the others are holes and run clockwise.
+
+use cadmorph_brep::pcurve::Periods;
+use cadmorph_brep::{BoundedFace, CadDocument};
+use cadmorph_model::{Error, Model, Result};
+use cadmorph_nurbs::math::Point3;
+use cadmorph_nurbs::{Curve, NurbsCurve, NurbsSurface, Surface};
+
+/// The face `i` of `m` with its bounds as closed loops; `tol` is how far apart two
+/// curve ends may be and still meet.
+pub(crate) fn bounded_face<D: CadDocument>(m: &Model<D>, i: usize, tol: f64) -> Result<BoundedFace> {
+    let face = &m.patches()[i];
+    let fail = |reason: String| Error::Convert { face: face.entity, reason };
+    let mut pieces = Vec::new();
+    for b in m.bound_curves().iter().filter(|b| b.face == i) {
+        let c = segment(&b.curve, b.range).map_err(|e| fail(format!("bound curve {}: {e}", b.label)))?;
+        pieces.push(c);
+    }
+    if pieces.is_empty() {
+        return Err(fail("a trimmed face without bound curves".into()));
+    }
+    let mut loops = chain(pieces, tol).map_err(fail)?;
+    let s = &face.surface;
+    let polys: Vec<Vec<(f64, f64)>> = loops.iter().map(|lp| uv_polyline(s, lp, m.size())).collect();
+    if let [poly] = polys.as_slice() {
+        if let Some(b) = iso_box(poly) {
+            // A face bounded by iso-lines only (a plane's rectangle, a cylinder's band
+            // with its seam) is the whole of the surface cut to that box.
+            let sub = sub_surface(s, b).map_err(|e| fail(format!("cutting its surface to its box: {e}")))?;
+            return Ok(BoundedFace::natural(sub, face.reversed, tol));
+        }
+    }
+    let areas: Vec<f64> = polys.iter().map(|p| signed_area(p)).collect();
+    let outer = (0..loops.len()).max_by(|&a, &b| areas[a].abs().total_cmp(&areas[b].abs())).unwrap_or(0);
+    if areas[outer] == 0.0 {
+        return Err(fail("its outer loop encloses no area on the surface".into()));
+    }
+    loops.swap(0, outer);
+    let mut areas = areas;
+    areas.swap(0, outer);
+    for (k, (lp, a)) in loops.iter_mut().zip(&areas).enumerate() {
+        // Counterclockwise in (u, v) for the outer loop, clockwise for the holes; then
+        // the other way for a reversed face (the loops go round the face normal).
+        let ccw = (k == 0) != face.reversed;
+        if (*a > 0.0) != ccw {
+            *lp = lp.iter().rev().map(NurbsCurve::reversed).collect();
+        }
+    }
+    Ok(BoundedFace { surface: face.surface.clone(), reversed: face.reversed, loops })
+}
+
+/// `c` cut to `range` (the whole curve when the range is its domain).
+fn segment(c: &NurbsCurve, range: (f64, f64)) -> cadmorph_nurbs::Result<NurbsCurve> {
+    let d = c.domain();
+    let (lo, hi) = (range.0.min(range.1), range.0.max(range.1));
+    let eps = 1e-12 * (d.end() - d.start()).abs().max(1.0);
+    let mut c = c.clamped();
+    if lo > d.start() + eps {
+        c = c.split(lo)?.1;
+    }
+    if hi < d.end() - eps {
+        c = c.split(hi)?.0;
+    }
+    Ok(c)
+}
+
+fn ends(c: &NurbsCurve) -> (Point3<f64>, Point3<f64>) {
+    let d = c.domain();
+    (c.eval(*d.start()), c.eval(*d.end()))
+}
+
+/// Chains `pieces` into closed loops: from the first unused piece, the next is the
+/// unused one with an end nearest to the chain's end, reversed when that is its own end,
+/// until the chain closes. Fails naming the gap when none is within `tol`.
+fn chain(pieces: Vec<NurbsCurve>, tol: f64) -> std::result::Result<Vec<Vec<NurbsCurve>>, String> {
+    let mut pieces: Vec<Option<NurbsCurve>> = pieces.into_iter().map(Some).collect();
+    let tol_sq = tol * tol;
+    let mut loops = Vec::new();
+    while let Some(first) = pieces.iter().position(Option::is_some) {
+        let Some(c) = pieces[first].take() else { break };
+        let (start, mut end) = ends(&c);
+        let mut lp = vec![c];
+        let mut last = first;
+        loop {
+            if (end - start).norm_squared() <= tol_sq {
+                // Closed, unless the file's next curve goes on from here: a closed curve
+                // followed by a seam (a cylinder's band bounded by its two circles and
+                // the seam between them, as one loop).
+                let next = pieces.iter().enumerate().skip(last + 1).find_map(|(k, p)| p.as_ref().map(|p| (k, p)));
+                let goes_on = next.is_some_and(|(_, p)| {
+                    let (a, b) = ends(p);
+                    (a - b).norm_squared() > tol_sq
+                        && ((a - end).norm_squared() <= tol_sq || (b - end).norm_squared() <= tol_sq)
+                });
+                match next {
+                    Some((k, _)) if goes_on => {
+                        let Some(p) = pieces[k].take() else { break };
+                        let (a, _) = ends(&p);
+                        let p = if (a - end).norm_squared() <= tol_sq { p } else { p.reversed() };
+                        end = ends(&p).1;
+                        lp.push(p);
+                        last = k;
+                        continue;
+                    }
+                    _ => break,
+                }
+            }
+            let mut best: Option<(f64, usize, bool)> = None;
+            for (k, p) in pieces.iter().enumerate() {
+                let Some(p) = p else { continue };
+                let (a, b) = ends(p);
+                for (d, rev) in [((a - end).norm_squared(), false), ((b - end).norm_squared(), true)] {
+                    if best.is_none_or(|x| d < x.0) {
+                        best = Some((d, k, rev));
+                    }
+                }
+            }
+            // A curve this loop used already, whose other end is elsewhere: the seam of a
+            // closed surface, which a loop runs along twice but some files list once.
+            let again = lp.iter().find_map(|q| {
+                let (a, b) = ends(q);
+                ((b - end).norm_squared() <= tol_sq && (a - b).norm_squared() > tol_sq).then(|| q.reversed())
+            });
+            match best {
+                Some((d, k, rev)) if d <= tol_sq => {
+                    let Some(p) = pieces[k].take() else { break };
+                    let p = if rev { p.reversed() } else { p };
+                    end = ends(&p).1;
+                    lp.push(p);
+                    last = k;
+                }
+                _ if again.is_some() => {
+                    let Some(p) = again else { break };
+                    end = ends(&p).1;
+                    lp.push(p);
+                }
+                _ => {
+                    let gap = best.map_or(f64::INFINITY, |b| b.0.sqrt());
+                    return Err(format!(
+                        "its bound curves do not close into loops: the chain from ({:.6}, {:.6}, {:.6}) ends at ({:.6}, {:.6}, {:.6}), {gap:.3e} from the nearest free curve end (tolerance {tol:.3e})",
+                        start.x, start.y, start.z, end.x, end.y, end.z
+                    ));
+                }
+            }
+        }
+        weld(&mut lp);
+        loops.push(lp);
+    }
+    Ok(loops)
+}
+
+/// Makes each joint of a closed loop one point: the end of a curve and the start of the
+/// next (within the chaining tolerance) both move to their midpoint, by the curves' end
+/// control points (the curves are clamped, so those are their end points).
+fn weld(lp: &mut [NurbsCurve]) {
+    let n = lp.len();
+    for k in 0..n {
+        let next = (k + 1) % n;
+        let a = *lp[k].control_points().last().expect("a curve has control points");
+        let b = lp[next].control_points()[0];
+        let m = Point3::from((a.coords + b.coords) * 0.5);
+        if let Some(p) = lp[k].control_points_mut().last_mut() {
+            *p = m;
+        }
+        lp[next].control_points_mut()[0] = m;
+    }
+}
+
+/// The loop's points in `(u, v)`, projected onto `s` walking along it (unwrapped across
+/// the seam of a closed surface).
+fn uv_polyline(s: &NurbsSurface, lp: &[NurbsCurve], size: f64) -> Vec<(f64, f64)> {
+    let tol = 1e-12 * size.max(f64::MIN_POSITIVE);
+    let periods = Periods::of(s, 1e-7 * size);
+    let mut uv: Vec<(f64, f64)> = Vec::new();
+    let mut near = None;
+    for c in lp {
+        let d = c.domain();
+        let n = (2 * c.control_points().len()).clamp(16, 256);
+        for k in 0..n {
+            let t = d.start() + (d.end() - d.start()) * k as f64 / n as f64;
+            let pr = s.project_near(&c.eval(t), near, tol, 1e-3 * size);
+            near = Some((pr.u, pr.v));
+            // Across the seam of a closed surface: continue on the unwrapped side.
+            let q = uv.last().map_or((pr.u, pr.v), |&last| periods.unwrap((pr.u, pr.v), last));
+            uv.push(q);
+        }
+    }
+    uv
+}
+
+/// The signed area of a closed polyline (shoelace): positive when counterclockwise.
+fn signed_area(uv: &[(f64, f64)]) -> f64 {
+    let n = uv.len();
+    (0..n)
+        .map(|k| {
+            let (a, b) = (uv[k], uv[(k + 1) % n]);
+            a.0 * b.1 - b.0 * a.1
+        })
+        .sum::<f64>()
+        * 0.5
+}
+
+/// The box `[u0, u1, v0, v1]` when every point lies on one of its sides (within 1e-9 of
+/// its size in that parameter) and it has an area.
+fn iso_box(uv: &[(f64, f64)]) -> Option<[f64; 4]> {
+    let (mut b, inf) = ([f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY], f64::INFINITY);
+    for &(u, v) in uv {
+        b = [b[0].min(u), b[1].max(u), b[2].min(v), b[3].max(v)];
+    }
+    let (du, dv) = (b[1] - b[0], b[3] - b[2]);
+    if !(du > 0.0 && dv > 0.0 && du < inf && dv < inf) {
+        return None;
+    }
+    let on = |x: f64, lo: f64, hi: f64, d: f64| (x - lo).abs() <= 1e-9 * d || (x - hi).abs() <= 1e-9 * d;
+    uv.iter().all(|&(u, v)| on(u, b[0], b[1], du) || on(v, b[2], b[3], dv)).then_some(b)
+}
+
+/// `s` cut to the box `[u0, u1, v0, v1]` (its own parameters; a box beyond the domain
+/// in a closed direction is moved back by whole periods first).
+fn sub_surface(s: &NurbsSurface, b: [f64; 4]) -> cadmorph_nurbs::Result<NurbsSurface> {
+    let (du, dv) = s.domain();
+    let shift = |lo: f64, hi: f64, d0: f64, d1: f64| {
+        let p = d1 - d0;
+        if lo < d0 - 1e-9 * p || hi > d1 + 1e-9 * p {
+            let k = ((lo - d0) / p).floor();
+            (lo - k * p, hi - k * p)
+        } else {
+            (lo, hi)
+        }
+    };
+    let (u0, u1) = shift(b[0], b[1], *du.start(), *du.end());
+    let (v0, v1) = shift(b[2], b[3], *dv.start(), *dv.end());
+    let inside = |x: f64, d0: f64, d1: f64| x > d0 + 1e-12 * (d1 - d0) && x < d1 - 1e-12 * (d1 - d0);
+    let mut out = s.clone();
+    if inside(u0, *du.start(), *du.end()) {
+        out = out.split_u(u0)?.1;
+    }
+    if inside(u1, *du.start(), *du.end()) {
+        out = out.split_u(u1)?.0;
+    }
+    if inside(v0, *dv.start(), *dv.end()) {
+        out = out.split_v(v0)?.1;
+    }
+    if inside(v1, *dv.start(), *dv.end()) {
+        out = out.split_v(v1)?.0;
+    }
+    Ok(out)
+}
