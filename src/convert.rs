@@ -10,7 +10,12 @@
 //!   ADVANCED_FACE per face with shared EDGE_CURVEs carrying a PCURVE on each side
 //!   (a CLOSED_SHELL in a MANIFOLD_SOLID_BREP when every edge is used twice, else an
 //!   OPEN_SHELL), IGES a 144 per trimmed face whose 142 bounds carry model and
-//!   parameter-space curves (IGES 5.3 §4.32, §4.34).
+//!   parameter-space curves (IGES 5.3 §4.32, §4.34);
+//! - IGES output writes each connected set of faces that closes up as a 186 B-rep solid
+//!   ([`IgesFaces::Brep`], the default) or every face on its own
+//!   ([`IgesFaces::Trimmed`]); STEP output always makes such a set a solid. Faces of a
+//!   solid are turned so their normals point out ([`cadmorph_brep::orient_outward`]):
+//!   IGES faces outside a 186 carry no orientation.
 //!
 //! A document with curves outside faces (wireframe), or without faces, is refused
 //! ([`Error::Unsupported`]) rather than written without them; a face whose loops cannot
@@ -86,6 +91,40 @@ fn iges_units(metres: f64) -> Option<crate::iges::Units> {
 /// has no flag for; [`Error::Convert`] for a face whose loops do not close; the writer's
 /// errors.
 pub fn convert<D: CadDocument>(m: &Model<D>, format: Format) -> Result<Box<dyn CadDocument>> {
+    convert_with(m, format, &ConvertOptions::default())
+}
+
+/// How faces are written to IGES, which has two forms for them.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum IgesFaces {
+    /// Each connected set of faces that closes up as a 186 manifold solid B-rep (IGES 5.3
+    /// §4.150–4.155: shell, faces, loops, shared edges and vertices), the others as
+    /// trimmed surfaces: solids stay solids.
+    #[default]
+    Brep,
+    /// Every face on its own, a 144 trimmed surface (a 128 when it is its whole
+    /// surface), as OCCT's IGES writer does by default (`write.iges.brep.mode` Faces):
+    /// for readers without B-rep entities.
+    Trimmed,
+}
+
+/// Choices of [`convert_with`].
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct ConvertOptions {
+    /// The IGES form of faces.
+    pub iges_faces: IgesFaces,
+}
+
+/// [`convert`] with `options`.
+///
+/// # Errors
+///
+/// Those of [`convert`].
+pub fn convert_with<D: CadDocument>(
+    m: &Model<D>,
+    format: Format,
+    options: &ConvertOptions,
+) -> Result<Box<dyn CadDocument>> {
     let units = m.units();
     let tol = units.uncertainty.unwrap_or(1e-7 * m.size()).max(1e-9 * m.size());
     // Curve ends closer than this are one vertex: the file's own precision, at least
@@ -112,21 +151,32 @@ pub fn convert<D: CadDocument>(m: &Model<D>, format: Format) -> Result<Box<dyn C
             let u =
                 iges_units(units.metres_per_unit).ok_or(Error::Unsupported("a length unit IGES has no flag for"))?;
             let mut b = crate::iges::write::DocumentBuilder::new(u).resolution(tol);
-            match &faces {
-                Faces::Natural(s) => {
+            let wrap = |e| Error::Document(cadmorph_brep::Error::new(Format::Iges, e));
+            match (&faces, options.iges_faces) {
+                (Faces::Natural(s), IgesFaces::Trimmed) => {
                     for s in s {
                         b.add_surface(s);
                     }
                 }
-                Faces::Bounded(f, natural) => {
+                (Faces::Natural(s), IgesFaces::Brep) => {
+                    let bounded: Vec<BoundedFace> = s
+                        .iter()
+                        .zip(m.patches())
+                        .map(|(s, f)| BoundedFace::natural(s.clone(), f.reversed, join))
+                        .collect();
+                    b.add_bounded_faces(&bounded, &vec![true; bounded.len()], join).map_err(wrap)?;
+                }
+                (Faces::Bounded(f, natural), IgesFaces::Trimmed) => {
                     for (face, &whole) in f.iter().zip(natural) {
                         if whole {
                             b.add_surface(&face.surface);
                         } else {
-                            b.add_trimmed_face(face, join)
-                                .map_err(|e| Error::Document(cadmorph_brep::Error::new(Format::Iges, e)))?;
+                            b.add_trimmed_face(face, join).map_err(wrap)?;
                         }
                     }
+                }
+                (Faces::Bounded(f, natural), IgesFaces::Brep) => {
+                    b.add_bounded_faces(f, natural, join).map_err(wrap)?;
                 }
             }
             Box::new(<crate::iges::Document as ReadDocument>::from_bytes(&b.to_bytes())?)
@@ -142,9 +192,18 @@ pub fn convert<D: CadDocument>(m: &Model<D>, format: Format) -> Result<Box<dyn C
 /// [`Error::UnknownExtension`] for an extension of no format (nothing is written);
 /// those of [`convert`]; [`Error::Write`].
 pub fn save_as<D: CadDocument>(m: &Model<D>, path: &Path) -> Result<()> {
+    save_as_with(m, path, &ConvertOptions::default())
+}
+
+/// [`save_as`] converting with `options`.
+///
+/// # Errors
+///
+/// Those of [`save_as`].
+pub fn save_as_with<D: CadDocument>(m: &Model<D>, path: &Path, options: &ConvertOptions) -> Result<()> {
     match Format::from_extension(path) {
         None => Err(Error::UnknownExtension { path: path.to_owned() }),
         Some(f) if f == m.format() => m.save(path),
-        Some(f) => write_atomic(path, &convert(m, f)?.to_bytes()),
+        Some(f) => write_atomic(path, &convert_with(m, f, options)?.to_bytes()),
     }
 }

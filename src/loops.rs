@@ -10,7 +10,7 @@
 //! projected onto the surface): the loop of largest area is the outer one and runs
 //! counterclockwise around the face normal, the others are holes and run clockwise.
 
-use cadmorph_brep::pcurve::Periods;
+use cadmorph_brep::pcurve::{signed_area, uv_polyline};
 use cadmorph_brep::{BoundedFace, CadDocument};
 use cadmorph_model::{Error, Model, Result};
 use cadmorph_nurbs::math::Point3;
@@ -174,40 +174,6 @@ fn weld(lp: &mut [NurbsCurve]) {
         }
         lp[next].control_points_mut()[0] = m;
     }
-}
-
-/// The loop's points in `(u, v)`, projected onto `s` walking along it (unwrapped across
-/// the seam of a closed surface).
-fn uv_polyline(s: &NurbsSurface, lp: &[NurbsCurve], size: f64) -> Vec<(f64, f64)> {
-    let tol = 1e-12 * size.max(f64::MIN_POSITIVE);
-    let periods = Periods::of(s, 1e-7 * size);
-    let mut uv: Vec<(f64, f64)> = Vec::new();
-    let mut near = None;
-    for c in lp {
-        let d = c.domain();
-        let n = (2 * c.control_points().len()).clamp(16, 256);
-        for k in 0..n {
-            let t = d.start() + (d.end() - d.start()) * k as f64 / n as f64;
-            let pr = s.project_near(&c.eval(t), near, tol, 1e-3 * size);
-            near = Some((pr.u, pr.v));
-            // Across the seam of a closed surface: continue on the unwrapped side.
-            let q = uv.last().map_or((pr.u, pr.v), |&last| periods.unwrap((pr.u, pr.v), last));
-            uv.push(q);
-        }
-    }
-    uv
-}
-
-/// The signed area of a closed polyline (shoelace): positive when counterclockwise.
-fn signed_area(uv: &[(f64, f64)]) -> f64 {
-    let n = uv.len();
-    (0..n)
-        .map(|k| {
-            let (a, b) = (uv[k], uv[(k + 1) % n]);
-            a.0 * b.1 - b.0 * a.1
-        })
-        .sum::<f64>()
-        * 0.5
 }
 
 /// The box `[u0, u1, v0, v1]` when every point lies on one of its sides (within 1e-9 of

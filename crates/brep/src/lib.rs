@@ -34,6 +34,7 @@ mod document;
 mod entity;
 mod error;
 mod face;
+mod orient;
 pub mod pcurve;
 pub mod real;
 mod shell;
@@ -44,6 +45,7 @@ pub use document::{CadDocument, ReadDocument};
 pub use entity::{EntityRef, Format};
 pub use error::{chain, Error, Result};
 pub use face::{Face, FaceSet, Skipped, SurfaceKind};
+pub use orient::orient_outward;
 pub use shell::{BoundedFace, Shell, ShellEdge, PCURVE_TOLS};
 pub use units::Units;
 

@@ -147,3 +147,40 @@ mod tests {
         assert!((end.0 - 0.75).abs() < 1e-12 && (end.1 - 0.75).abs() < 1e-12);
     }
 }
+
+/// The points of a chain of curves lying on `s` in `(u, v)`: each curve sampled at
+/// `2 n` points (`n` its control points, 16 to 256), each projected from the one before
+/// (so the walk stays on one sheet of a closed surface) and unwrapped across its seam;
+/// `size` is the model's size. The last point of each curve is left out (the next
+/// curve starts there).
+pub fn uv_polyline(s: &NurbsSurface, curves: &[NurbsCurve], size: f64) -> Vec<(f64, f64)> {
+    let tol = 1e-12 * size.max(f64::MIN_POSITIVE);
+    let periods = Periods::of(s, 1e-7 * size);
+    let mut uv: Vec<(f64, f64)> = Vec::new();
+    let mut near = None;
+    for c in curves {
+        let d = c.domain();
+        let n = (2 * c.control_points().len()).clamp(16, 256);
+        for k in 0..n {
+            let t = d.start() + (d.end() - d.start()) * k as f64 / n as f64;
+            let pr = s.project_near(&c.eval(t), near, tol, 1e-3 * size);
+            near = Some((pr.u, pr.v));
+            let q = uv.last().map_or((pr.u, pr.v), |&last| periods.unwrap((pr.u, pr.v), last));
+            uv.push(q);
+        }
+    }
+    uv
+}
+
+/// The signed area of a closed polyline (the shoelace formula): positive when it runs
+/// counterclockwise.
+pub fn signed_area(uv: &[(f64, f64)]) -> f64 {
+    let n = uv.len();
+    (0..n)
+        .map(|k| {
+            let (a, b) = (uv[k], uv[(k + 1) % n]);
+            a.0 * b.1 - b.0 * a.1
+        })
+        .sum::<f64>()
+        * 0.5
+}

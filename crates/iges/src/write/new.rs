@@ -261,4 +261,5 @@ impl DocumentBuilder {
     }
 }
 
+mod brep;
 mod trimmed;

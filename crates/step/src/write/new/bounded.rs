@@ -1,7 +1,7 @@
 //! Faces bounded by arbitrary loops (trimmed faces, holes), for conversion from IGES and
 //! for any writer that knows its faces' boundary curves.
 
-use cadmorph_brep::{BoundedFace, Shell};
+use cadmorph_brep::{orient_outward, BoundedFace, Shell};
 use cadmorph_nurbs::{Aabb, NurbsCurve};
 
 use super::{knot_lists, real_list, DocumentBuilder};
@@ -17,15 +17,19 @@ impl DocumentBuilder {
     /// on that face's surface ([`Shell::pcurves`]), so a reader measures the faces as
     /// exactly as they were given instead of projecting the curves itself.
     ///
-    /// When the faces close up ([`Shell::is_closed`]) the shell is a `CLOSED_SHELL` held
-    /// by a `MANIFOLD_SOLID_BREP`, else an `OPEN_SHELL` in a `SHELL_BASED_SURFACE_MODEL`.
-    /// Returns whether it closed.
+    /// Each connected piece of faces that closes up is turned so that its normals point
+    /// out ([`orient_outward`]) and written as a `CLOSED_SHELL` held by a
+    /// `MANIFOLD_SOLID_BREP`; the other pieces are `OPEN_SHELL`s of one
+    /// `SHELL_BASED_SURFACE_MODEL`, their faces as given. Returns the number of solids.
     ///
     /// # Errors
     ///
     /// [`Error::Edit`] naming the face whose parameter curve cannot be fitted (a bound
     /// curve that is not on its surface).
-    pub fn add_bounded_faces(&mut self, faces: &[BoundedFace], tol: f64) -> Result<bool> {
+    pub fn add_bounded_faces(&mut self, faces: &[BoundedFace], tol: f64) -> Result<usize> {
+        let mut faces = faces.to_vec();
+        let pieces = orient_outward(&mut faces, tol);
+        let faces = faces.as_slice();
         let shell = Shell::from_faces(faces, tol);
         let size =
             Aabb::from_points(faces.iter().flat_map(|f| f.surface.control_points())).map_or(1.0, |b| b.diagonal());
@@ -94,17 +98,24 @@ impl DocumentBuilder {
                 self.add(format!("ADVANCED_FACE('',({}),#{},{sense})", bounds.join(","), surface[fi]))
             ));
         }
-        let closed = shell.is_closed();
-        if closed {
-            let sh = self.add(format!("CLOSED_SHELL('',({}))", ids.join(",")));
-            let solid = self.add(format!("MANIFOLD_SOLID_BREP('',#{sh})"));
-            self.items.push(solid);
-        } else {
-            let sh = self.add(format!("OPEN_SHELL('',({}))", ids.join(",")));
-            let model = self.add(format!("SHELL_BASED_SURFACE_MODEL('',(#{sh}))"));
+        let mut open = Vec::new();
+        let mut solids = 0;
+        for (members, closed) in &pieces {
+            let list: Vec<&str> = members.iter().map(|&f| ids[f].as_str()).collect();
+            if *closed {
+                let sh = self.add(format!("CLOSED_SHELL('',({}))", list.join(",")));
+                let solid = self.add(format!("MANIFOLD_SOLID_BREP('',#{sh})"));
+                self.items.push(solid);
+                solids += 1;
+            } else {
+                open.push(format!("#{}", self.add(format!("OPEN_SHELL('',({}))", list.join(",")))));
+            }
+        }
+        if !open.is_empty() {
+            let model = self.add(format!("SHELL_BASED_SURFACE_MODEL('',({}))", open.join(",")));
             self.items.push(model);
         }
-        Ok(closed)
+        Ok(solids)
     }
 
     /// A non-rational planar curve `(x, y, 0)` as a 2D `B_SPLINE_CURVE_WITH_KNOTS`.
