@@ -1,6 +1,7 @@
-//! `cadmorph::convert`: IGES → STEP → IGES and STEP → IGES → STEP of the samples whose
-//! faces are whole surfaces, checked by OCCT (validity, faces, area), and units carried
-//! across (feet, mils, kilometres).
+//! `cadmorph::convert`: IGES → STEP → IGES and STEP → IGES → STEP of every sample with
+//! faces (whole, trimmed, solids, an assembly), checked by OCCT (validity, faces, area of
+//! each face, volume and solids, topology back in the source format), units carried
+//! across (feet, mils, kilometres), and wireframe refused.
 
 use std::path::{Path, PathBuf};
 
@@ -12,63 +13,110 @@ fn out_dir() -> PathBuf {
     d
 }
 
-/// `input` converted to `format`, written to `dir`.
-fn convert_to(input: &Path, format: Format, dir: &Path) -> PathBuf {
+/// `input` converted to `format` (IGES faces as `iges_faces`), written to `dir`.
+fn convert_to(input: &Path, format: Format, iges_faces: cadmorph::IgesFaces, dir: &Path) -> PathBuf {
     let m = cadmorph::open(input).unwrap();
     let stem = input.file_name().unwrap().to_string_lossy().replace('.', "_");
     let out = dir.join(format!("{stem}.{}", format.extension()));
-    cadmorph::save_as(&m, &out).unwrap();
+    cadmorph::save_as_with(&m, &out, &cadmorph::ConvertOptions { iges_faces }).unwrap();
     out
 }
 
-/// The files whose faces are whole surfaces (what converts today).
-const CONVERTIBLE: [&str; 10] = [
+/// Every sample with faces: whole surfaces, trimmed faces (IGES 144, STEP loops inside
+/// the surface), B-rep solids (IGES 186, STEP MANIFOLD_SOLID_BREP), an assembly.
+const SAMPLES: [&str; 19] = [
     "hull3.igs",
     "hull3_bare.igs",
     "hull3_defect.igs",
     "bspline_surface.igs",
     "blade.igs",
     "nurbs_cylinder.igs",
+    "mixed_solid.igs",
+    "mixed_solid_brep.igs",
+    "planing_hull.igs",
+    "shaft.igs",
     "hull3.stp",
     "hull3_defect.stp",
     "bspline_surface.stp",
     "nurbs_cylinder.stp",
+    "blade.stp",
+    "mixed_solid.stp",
+    "planing_hull.stp",
+    "assembly_ap203.stp",
+    "assembly_ap214.stp",
 ];
+
+/// How closely a converted face's OCCT area must match the input's. `shaft.igs` (BladeX's
+/// shaft, written by OCC) holds model-space trim curves up to 4e-6 m off the surface
+/// points of its own parameter curves (measured with OCCT); OCCT measures the input by
+/// the parameter curves of its 120 surfaces of revolution, the conversion by the
+/// model-space curves on their exact NURBS form, so their trims agree only to about
+/// 2e-8 of a face's area.
+fn area_tol(name: &str) -> f64 {
+    if name == "shaft.igs" {
+        1e-7
+    } else {
+        1e-9
+    }
+}
+
+fn sorted(v: &serde_json::Value) -> Vec<f64> {
+    let mut x: Vec<f64> = v.as_array().unwrap().iter().map(|a| a.as_f64().unwrap()).collect();
+    x.sort_by(f64::total_cmp);
+    x
+}
 
 #[test]
 #[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
-fn occt_reads_converted_files_with_the_same_faces_and_area() {
+fn occt_reads_converted_files_with_the_same_faces_area_volume_and_topology() {
     let dir = out_dir();
-    for name in CONVERTIBLE.iter().copied().chain(["blade.stp"]) {
+    for name in SAMPLES {
         let input = cadmorph_testkit::sample(name);
         let from = cadmorph::open(&input).unwrap().format();
-        let other = if from == Format::Iges { Format::Step } else { Format::Iges };
-        let once = convert_to(&input, other, &dir);
-        let twice = convert_to(&once, from, &dir);
         let (code, src) = cadmorph_testkit::harness::validate(&input, None);
         assert_eq!(code, 0, "{name}: {src}");
+        let topology = &src["topology"];
+        // IGES faces outside a 186 come back as they were (trimmed surfaces); a 186 as a 186.
+        let back = if from == Format::Iges && topology["solids"] == 0 {
+            cadmorph::IgesFaces::Trimmed
+        } else {
+            cadmorph::IgesFaces::Brep
+        };
+        let other = if from == Format::Iges { Format::Step } else { Format::Iges };
+        let once = convert_to(&input, other, cadmorph::IgesFaces::Brep, &dir);
+        let twice = convert_to(&once, from, back, &dir);
+        let tol = area_tol(name);
         for file in [&once, &twice] {
+            let shown = file.file_name().unwrap().to_string_lossy().into_owned();
             let (code, out) = cadmorph_testkit::harness::validate(file, None);
-            assert_eq!(code, 0, "{}: {out}", file.display());
-            assert_eq!(out["transfer_ok"], true, "{}", file.display());
-            assert_eq!(out["valid"], true, "{}: {}", file.display(), out["invalid_faces"]);
-            assert_eq!(out["n_faces"], src["n_faces"], "{}", file.display());
-            let (a, b) = (src["area"].as_f64().unwrap(), out["area"].as_f64().unwrap());
-            assert!((a - b).abs() <= 1e-9 * a, "{}: area {b} vs {a}", file.display());
-            let sorted = |v: &serde_json::Value| {
-                let mut x: Vec<f64> = v.as_array().unwrap().iter().map(|a| a.as_f64().unwrap()).collect();
-                x.sort_by(f64::total_cmp);
-                x
-            };
-            for (p, q) in sorted(&src["face_areas"]).iter().zip(sorted(&out["face_areas"])) {
-                assert!((p - q).abs() <= 1e-9 * p, "{}: face area {q} vs {p}", file.display());
+            assert_eq!(code, 0, "{shown}: {out}");
+            assert_eq!(out["transfer_ok"], true, "{shown}");
+            assert_eq!(out["valid"], true, "{shown}: {}", out["invalid_faces"]);
+            assert_eq!(out["n_faces"], src["n_faces"], "{shown}");
+            let (a, b) = (src["area_exact"].as_f64().unwrap(), out["area_exact"].as_f64().unwrap());
+            assert!((a - b).abs() <= tol * a, "{shown}: area {b} vs {a}");
+            for (p, q) in sorted(&src["face_areas_exact"]).iter().zip(sorted(&out["face_areas_exact"])) {
+                assert!((p - q).abs() <= tol * p, "{shown}: face area {q} vs {p}");
             }
-            eprintln!(
-                "{name} -> {}: topology {} (input {})",
-                file.file_name().unwrap().to_string_lossy(),
-                out["topology"],
-                src["topology"]
-            );
+            // A solid stays a solid, with its volume.
+            if topology["solids"] != 0 {
+                assert_eq!(out["topology"]["solids"], topology["solids"], "{shown}");
+                let (v, w) = (src["volume_exact"].as_f64().unwrap(), out["volume_exact"].as_f64().unwrap());
+                assert!((v - w).abs() <= 1e-9 * v, "{shown}: volume {w} vs {v}");
+            }
+            eprintln!("{name} -> {shown}: topology {} (input {topology})", out["topology"]);
+        }
+        // Back in its own format, a file has the topology it had (vertices aside: two
+        // vertices of one point, as `hull3_defect.stp` has at its gap's end, become one);
+        // IGES faces outside a solid share no edges, but each face keeps its loops.
+        let (_, out) = cadmorph_testkit::harness::validate(&twice, None);
+        let kinds: &[&str] = if from == Format::Iges && topology["solids"] == 0 {
+            &["faces", "wires"]
+        } else {
+            &["solids", "shells", "faces", "wires", "edges"]
+        };
+        for &k in kinds {
+            assert_eq!(out["topology"][k], topology[k], "{name} twice: {k}");
         }
     }
 }
@@ -86,11 +134,11 @@ fn units_are_carried_across() {
         b.add_surface(&patch);
         let igs = dir.join(format!("patch_{}.igs", unit.name()));
         std::fs::write(&igs, b.to_bytes()).unwrap();
-        let stp = convert_to(&igs, Format::Step, &dir);
+        let stp = convert_to(&igs, Format::Step, cadmorph::IgesFaces::Brep, &dir);
         let m = cadmorph::open(&stp).unwrap();
         assert!((m.units().metres_per_unit - metres).abs() <= 1e-12 * metres, "{unit:?}: {:?}", m.units());
         assert_eq!(m.patches()[0].surface, patch, "{unit:?}: coordinates stay in the model unit");
-        let back = convert_to(&stp, Format::Iges, &dir);
+        let back = convert_to(&stp, Format::Iges, cadmorph::IgesFaces::Brep, &dir);
         let doc = cadmorph::read_document(&std::fs::read(&back).unwrap(), "back").unwrap();
         assert_eq!(doc.format(), Format::Iges);
         let d = cadmorph::iges::Document::parse(&std::fs::read(&back).unwrap()).unwrap();
@@ -101,7 +149,8 @@ fn units_are_carried_across() {
 #[test]
 fn what_does_not_convert_is_refused() {
     let dir = out_dir();
-    for name in ["mixed_solid.stp", "mixed_solid.igs", "bspline_curve.igs", "nurbs_arc.stp"] {
+    // Wireframe (curves outside faces) does not convert yet.
+    for name in ["bspline_curve.igs", "bspline_curve.stp", "nurbs_arc.igs", "nurbs_arc.stp"] {
         let m = cadmorph::open(&cadmorph_testkit::sample(name)).unwrap();
         let other = if m.format() == Format::Iges { "stp" } else { "igs" };
         let out = dir.join(format!("refused.{other}"));
