@@ -122,7 +122,7 @@ pub fn orient_outward(faces: &mut [BoundedFace], tol: f64) -> Vec<(Vec<usize>, b
         let box_volume = extent.x * extent.y * extent.z;
         let size = bounds.diagonal();
         let volume: f64 = oriented.iter().map(|f| signed_volume(f, size)).sum();
-        if !(volume.abs() > 1e-6 * box_volume) {
+        if volume.is_nan() || volume.abs() <= 1e-6 * box_volume {
             *ok = false;
             continue;
         }

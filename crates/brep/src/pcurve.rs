@@ -122,32 +122,6 @@ fn wrap(q: (f64, f64), s: &NurbsSurface) -> (f64, f64) {
     (into(q.0, *du.start(), *du.end()), into(q.1, *dv.start(), *dv.end()))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_line_on_a_bilinear_plane_is_a_line_in_uv() {
-        let s = NurbsSurface::bilinear([[0., 0., 0.], [2., 0., 0.], [0., 1., 0.], [2., 1., 0.]]);
-        let c = NurbsCurve::try_new(
-            1,
-            cadmorph_nurbs::KnotVector::try_new(vec![0., 0., 1., 1.]).unwrap(),
-            vec![Point3::new(0.5, 0.25, 0.), Point3::new(1.5, 0.75, 0.)],
-            None,
-        )
-        .unwrap();
-        let p = Periods::of(&s, 1e-9);
-        assert_eq!(p, Periods { u: None, v: None });
-        let (pc, end) = pcurve(&s, &c, false, None, p, 1e-12, 2.0).unwrap();
-        for k in 0..=10 {
-            let t = k as f64 / 10.0;
-            let q = pc.eval(t);
-            assert!((q - Point3::new(0.25 + 0.5 * t, 0.25 + 0.5 * t, 0.)).norm() < 1e-11, "{t}: {q}");
-        }
-        assert!((end.0 - 0.75).abs() < 1e-12 && (end.1 - 0.75).abs() < 1e-12);
-    }
-}
-
 /// The points of a chain of curves lying on `s` in `(u, v)`: each curve sampled at
 /// `2 n` points (`n` its control points, 16 to 256), each projected from the one before
 /// (so the walk stays on one sheet of a closed surface) and unwrapped across its seam;
@@ -183,4 +157,30 @@ pub fn signed_area(uv: &[(f64, f64)]) -> f64 {
         })
         .sum::<f64>()
         * 0.5
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_line_on_a_bilinear_plane_is_a_line_in_uv() {
+        let s = NurbsSurface::bilinear([[0., 0., 0.], [2., 0., 0.], [0., 1., 0.], [2., 1., 0.]]);
+        let c = NurbsCurve::try_new(
+            1,
+            cadmorph_nurbs::KnotVector::try_new(vec![0., 0., 1., 1.]).unwrap(),
+            vec![Point3::new(0.5, 0.25, 0.), Point3::new(1.5, 0.75, 0.)],
+            None,
+        )
+        .unwrap();
+        let p = Periods::of(&s, 1e-9);
+        assert_eq!(p, Periods { u: None, v: None });
+        let (pc, end) = pcurve(&s, &c, false, None, p, 1e-12, 2.0).unwrap();
+        for k in 0..=10 {
+            let t = k as f64 / 10.0;
+            let q = pc.eval(t);
+            assert!((q - Point3::new(0.25 + 0.5 * t, 0.25 + 0.5 * t, 0.)).norm() < 1e-11, "{t}: {q}");
+        }
+        assert!((end.0 - 0.75).abs() < 1e-12 && (end.1 - 0.75).abs() < 1e-12);
+    }
 }
