@@ -203,8 +203,22 @@ fn convert_writes_the_format_of_the_extension() {
         let (sa, sb) = (a.seams(50), b.seams(50));
         assert_eq!(sa.edges.len(), sb.edges.len(), "{input} -> {output}");
     }
-    // A trimmed face is refused, not written without its trims.
-    let out = cadmorph(&["convert", "samples/mixed_solid.stp", "-o", dir.join("solid.igs").to_str().unwrap()]);
+    // A solid of trimmed faces is a 186 B-rep by default, trimmed surfaces on request
+    // (OCCT's measure of both is in tests/convert.rs).
+    for (form, solids, trimmed) in [("brep", 1, 0), ("trimmed", 0, 4)] {
+        let solid = dir.join(format!("solid_{form}.igs"));
+        let out =
+            cadmorph(&["convert", "samples/mixed_solid.stp", "--iges-faces", form, "-o", solid.to_str().unwrap()]);
+        assert!(out.status.success(), "{form}: {}", String::from_utf8_lossy(&out.stderr));
+        let d = cadmorph::iges::Document::parse(&std::fs::read(&solid).unwrap()).unwrap();
+        let count = |t: u32| d.entities().filter(|e| e.entity_type() == t).count();
+        assert_eq!((count(186), count(144)), (solids, trimmed), "{form}");
+        assert_eq!(cadmorph::open(&solid).unwrap().patches().len(), 14, "{form}");
+    }
+    // Wireframe is refused, not written without its curves, and nothing is left behind.
+    let wire = dir.join("curve.stp");
+    let out = cadmorph(&["convert", "samples/bspline_curve.igs", "-o", wire.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("trimmed"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("curves outside faces"));
+    assert!(!wire.exists());
 }
