@@ -124,7 +124,7 @@ pub fn run(cmd: MeshCommand) -> Result<()> {
                 }
             }
             if json {
-                println!("{}", q.to_json());
+                println!("{}", serde_json::to_string_pretty(&q)?);
             } else {
                 print!("{}", q.table());
             }

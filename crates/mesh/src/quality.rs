@@ -621,11 +621,6 @@ impl Quality {
         self.ok() && self.concave_faces == 0
     }
 
-    /// The report as JSON.
-    pub fn to_json(&self) -> String {
-        serde_json::to_string_pretty(self).unwrap_or_default()
-    }
-
     /// The report as an aligned text table, one check per line (checkMesh's wording).
     pub fn table(&self) -> String {
         let mut rows: Vec<(String, String)> = vec![

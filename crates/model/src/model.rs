@@ -258,9 +258,11 @@ impl<D: CadDocument> Model<D> {
     /// [`seams`](Self::seams), reporting each edge measured to `progress`.
     pub fn seams_with_progress(&self, samples: usize, progress: &dyn Progress) -> SeamReport {
         progress.start("measuring seams", (self.iso.len() + self.trims.len()) as u64);
+        use rayon::prelude::*;
         let faces = self.seam_faces();
-        let iso = self.iso.iter().map(|e| measure_boundary(&faces, e, samples));
-        let trims = self.trims.iter().map(|e| measure_edge(&faces, e, samples));
+        // Edges are measured in parallel (each on its own; the report keeps their order).
+        let iso = self.iso.par_iter().map(|e| measure_boundary(&faces, e, samples));
+        let trims = self.trims.par_iter().map(|e| measure_edge(&faces, e, samples));
         SeamReport::new(iso.chain(trims).inspect(|_| progress.step(1)).collect())
     }
 

@@ -53,7 +53,7 @@ pub use curve::NurbsCurve;
 pub use error::{Error, Result};
 pub use fit::{fit_curve, greville, interpolate};
 pub use knots::KnotVector;
-pub use project::{CurveProject, CurveProjection, Projection, SurfaceProject};
+pub use project::{CurveProject, CurveProjection, CurveProjector, Projection, SurfaceProject};
 pub use reduce::KnotRemoval;
 pub use surface::{NurbsSurface, Side, SurfaceDerivs, SurfacePointD1};
 pub use tessellate::{Aabb, Mesh};

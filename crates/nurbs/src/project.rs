@@ -159,6 +159,32 @@ impl CurveProject for NurbsCurve {
     }
 }
 
+/// A curve with its sample table kept for many projections onto it: the same answers
+/// as [`CurveProject::project`], bit for bit, without evaluating the samples again for
+/// every point (boundary pairing projects dozens of points onto each candidate curve).
+#[derive(Debug, Clone)]
+pub struct CurveProjector<'a> {
+    curve: &'a NurbsCurve,
+    ts: Vec<f64>,
+    points: Vec<Point3<f64>>,
+}
+
+impl<'a> CurveProjector<'a> {
+    /// The sample table of `curve` (the one [`CurveProject::project`] makes).
+    pub fn new(curve: &'a NurbsCurve) -> Self {
+        let d = curve.domain();
+        let ts = span_samples(curve.knots(), curve.degree(), (*d.start(), *d.end()));
+        let points = ts.iter().map(|&t| curve.eval(t)).collect();
+        Self { curve, ts, points }
+    }
+
+    /// The closest point of the curve to `p`, as [`CurveProject::project`] finds it.
+    pub fn project(&self, p: &Point3<f64>, tol: f64) -> CurveProjection {
+        let d = self.points.iter().map(|q| (q - p).norm_squared()).collect();
+        project_curve_from(self.curve, &self.ts, d, p, tol)
+    }
+}
+
 impl SurfaceProject for NurbsSurface {
     fn project(&self, p: &Point3<f64>, tol: f64) -> Projection {
         let (du, dv) = self.domain();
@@ -201,6 +227,11 @@ fn best_minima(d: &[f64], is_local_min: impl Fn(usize) -> bool) -> Vec<usize> {
 /// Projection onto any curve from the sample parameters `ts` (sorted, covering the domain).
 fn project_curve<C: Curve + ?Sized>(c: &C, ts: &[f64], p: &Point3<f64>, tol: f64) -> CurveProjection {
     let d: Vec<f64> = ts.iter().map(|&t| (c.eval(t) - p).norm_squared()).collect();
+    project_curve_from(c, ts, d, p, tol)
+}
+
+/// [`project_curve`] given the squared distances `d` of `p` to the samples.
+fn project_curve_from<C: Curve + ?Sized>(c: &C, ts: &[f64], d: Vec<f64>, p: &Point3<f64>, tol: f64) -> CurveProjection {
     let n = d.len();
     let starts = best_minima(&d, |i| (i == 0 || d[i] <= d[i - 1]) && (i + 1 == n || d[i] <= d[i + 1]));
     let domain = (ts[0], ts[n - 1]);
@@ -472,6 +503,18 @@ mod tests {
             ],
             Some(vec![1.0, 1.2, 0.8, 1.0, 1.1, 1.0]),
         )
+    }
+
+    #[test]
+    fn a_kept_sample_table_projects_as_the_curve_does() {
+        let c = space_curve();
+        let projector = CurveProjector::new(&c);
+        let mut rng = XorShiftRng::seed_from_u64(13);
+        for _ in 0..200 {
+            let p = Point3::new(rng.gen_range(-1.0..6.0), rng.gen_range(-2.0..2.0), rng.gen_range(-1.0..1.0));
+            let (a, b) = (c.project(&p, 1e-12), projector.project(&p, 1e-12));
+            assert_eq!((a.t.to_bits(), a.distance_sq.to_bits()), (b.t.to_bits(), b.distance_sq.to_bits()), "{p}");
+        }
     }
 
     fn brute_curve(c: &NurbsCurve, p: &Point3<f64>, n: usize) -> f64 {

@@ -2,7 +2,7 @@
 //! carry no topology (bare IGES 128 surfaces).
 
 use cadmorph_nurbs::math::Point3;
-use cadmorph_nurbs::{Aabb, Curve, CurveProject, NurbsCurve, NurbsSurface, Side, Surface};
+use cadmorph_nurbs::{Aabb, Curve, CurveProjector, NurbsCurve, NurbsSurface, Side, Surface};
 use serde::Serialize;
 
 use crate::index::BoxIndex;
@@ -217,9 +217,10 @@ pub(crate) fn overlap(
     let mut matched = 0;
     // Once more samples have missed than `min_fraction` allows, the answer is no.
     let allowed_misses = samples as f64 * (1.0 - min_fraction);
+    let projector = CurveProjector::new(long);
     for i in 0..samples {
         let t = t0 + (t1 - t0) * i as f64 / (samples - 1) as f64;
-        let pr = long.project(&short.eval(t), tol * 1e-3);
+        let pr = projector.project(&short.eval(t), tol * 1e-3);
         if pr.distance_sq <= tol * tol {
             matched += 1;
             if first.is_none() {
