@@ -261,3 +261,17 @@ fn faces_that_cannot_be_converted_are_named_and_stop_the_morph() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("warning: face DE 5"), "{}", stderr(&o));
 }
+
+#[test]
+fn a_part_placed_twice_is_refused_by_the_morph_with_its_surface_and_faces() {
+    // The sample assembly places one part twice (two NEXT_ASSEMBLY_USAGE_OCCURRENCEs of
+    // one product): one surface cannot hold two different moves.
+    let s = Scratch::new("assembly");
+    let out = s.path("out.stp");
+    let o = cadmorph(&["morph", "samples/assembly_ap214.stp", "--ffd", "tests/repro/fuzz_small.prm", "-o", &out]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("surface #65 (occurrence 2) is used by face #50 and face #50 (occurrence 2)"), "{e}");
+    assert_eq!(e.lines().count(), 1, "{e}");
+    assert!(!Path::new(&out).exists());
+}

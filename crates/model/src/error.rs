@@ -105,6 +105,21 @@ pub enum Error {
     /// Something this version cannot do yet.
     #[error("{0}")]
     Unsupported(&'static str),
+    /// A surface that two faces of the model use (one part placed twice in an assembly):
+    /// a morph moves the two placements differently, which one surface cannot hold.
+    #[error(
+        "surface {surface} is used by face {first} and face {second} (one part placed more than once): a morph \
+         would move each placement differently; morphing assemblies with repeated parts is not supported yet, \
+         nothing was changed"
+    )]
+    SharedSurface {
+        /// The surface entity.
+        surface: cadmorph_brep::EntityRef,
+        /// The first face using it.
+        first: cadmorph_brep::EntityRef,
+        /// Another face using it.
+        second: cadmorph_brep::EntityRef,
+    },
     /// A face cannot be written in another format (its bounds do not form closed loops).
     #[error("converting face {face}: {reason}")]
     Convert {

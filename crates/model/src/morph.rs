@@ -168,6 +168,15 @@ impl<D: CadDocument> Model<D> {
         progress: &dyn Progress,
         mut exact: Option<(&ExactFfd, &[bool], &mut ExactReport)>,
     ) -> Result<MorphOutcome> {
+        // One surface placed twice (a part repeated in an assembly) would be moved two
+        // ways; faces sharing a surface in one placement move it once.
+        let mut users = std::collections::HashMap::new();
+        for f in &self.faces {
+            let first = *users.entry(f.surface_entity.id).or_insert((f.entity, f.placement));
+            if first.1 != f.placement {
+                return Err(Error::SharedSurface { surface: f.surface_entity, first: first.0, second: f.entity });
+            }
+        }
         let edges = self.iso.clone();
         let seams_before = self.seams_with_progress(200, progress);
         let domains: Vec<_> = self.faces.iter().map(|p| p.surface.domain()).collect();
