@@ -17,6 +17,10 @@
 //! * [`CadDocument`]: what a document gives (format, units, counts, faces, bound and free
 //!   curves) and the edits it takes (a face's surface, a curve), with the contract every
 //!   implementation keeps (see its docs).
+//! * [`BoundedFace`] and [`Shell`]: faces with their loops of model-space curves and the
+//!   shared vertices and edges a writer makes of them; [`pcurve`]: their parameter-space
+//!   curves; [`orient_outward`]: the faces of a closed piece turned so their normals
+//!   point out (conversion writes these to the other format).
 //! * [`real`]: reals as text, the shortest round-trip digits with the point and exponent
 //!   both formats want.
 //!
