@@ -23,7 +23,8 @@ pub(crate) fn bounded_face<D: CadDocument>(m: &Model<D>, i: usize, tol: f64) -> 
     let fail = |reason: String| Error::Convert { face: face.entity, reason };
     let mut pieces = Vec::new();
     for b in m.bound_curves().iter().filter(|b| b.face == i) {
-        let c = segment(&b.curve, b.range).map_err(|e| fail(format!("bound curve {}: {e}", b.label)))?;
+        let (lo, hi) = (b.range.0.min(b.range.1), b.range.0.max(b.range.1));
+        let c = b.curve.clamped().segment(lo, hi).map_err(|e| fail(format!("bound curve {}: {e}", b.label)))?;
         pieces.push(c);
     }
     if pieces.is_empty() {
@@ -57,21 +58,6 @@ pub(crate) fn bounded_face<D: CadDocument>(m: &Model<D>, i: usize, tol: f64) -> 
         }
     }
     Ok(BoundedFace { surface: face.surface.clone(), reversed: face.reversed, loops })
-}
-
-/// `c` cut to `range` (the whole curve when the range is its domain).
-fn segment(c: &NurbsCurve, range: (f64, f64)) -> cadmorph_nurbs::Result<NurbsCurve> {
-    let d = c.domain();
-    let (lo, hi) = (range.0.min(range.1), range.0.max(range.1));
-    let eps = 1e-12 * (d.end() - d.start()).abs().max(1.0);
-    let mut c = c.clamped();
-    if lo > d.start() + eps {
-        c = c.split(lo)?.1;
-    }
-    if hi < d.end() - eps {
-        c = c.split(hi)?.0;
-    }
-    Ok(c)
 }
 
 fn ends(c: &NurbsCurve) -> (Point3<f64>, Point3<f64>) {

@@ -397,6 +397,28 @@ impl NurbsCurve {
             .collect()
     }
 
+    /// The part of the curve on `[t0, t1]`, same parameterisation: split at each end that
+    /// lies inside the domain by more than 1e-12 of its length (an end within that of the
+    /// domain's end, or outside it, keeps the curve's own end; `t1` not above `t0` keeps
+    /// the upper part).
+    ///
+    /// # Errors
+    ///
+    /// Those of [`split`](Self::split).
+    pub fn segment(&self, t0: f64, t1: f64) -> Result<Self> {
+        let d = self.domain();
+        let (a, b) = (*d.start(), *d.end());
+        let eps = crate::tol::KNOT_EQUALITY * (b - a).abs().max(1.0);
+        let mut out = self.clone();
+        if t0 > a + eps && t0 < b - eps {
+            out = out.split(t0)?.1;
+        }
+        if t1 < b - eps && t1 > t0 + eps {
+            out = out.split(t1)?.0;
+        }
+        Ok(out)
+    }
+
     /// Splits the curve at `t` into the parts on `[a, t]` and `[t, b]`.
     ///
     /// `c.split(t).0.eval(u)` is the same point as `c.eval(u)` for `u ≤ t`, and

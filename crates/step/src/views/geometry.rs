@@ -106,7 +106,7 @@ impl CurveGeom {
                 let e = Circle::try_new(*frame, 1.0)?.to_nurbs(t0..=t1)?;
                 Ok((e.curve.transformed(&stretch(frame, *a, *b)), e.map))
             }
-            CurveGeom::Nurbs(c) | CurveGeom::Polyline(c) => Ok((trim_curve(c, t0, t1)?, ParamMap::Identity)),
+            CurveGeom::Nurbs(c) | CurveGeom::Polyline(c) => Ok((c.segment(t0, t1)?, ParamMap::Identity)),
             CurveGeom::Trimmed { basis, .. } => basis.to_nurbs(t0, t1),
         }
     }
@@ -122,20 +122,6 @@ fn stretch(f: &Placement, a: f64, b: f64) -> Matrix4<f64> {
     m.fixed_view_mut::<3, 3>(0, 0).copy_from(&lin);
     m.fixed_view_mut::<3, 1>(0, 3).copy_from(&t);
     m
-}
-
-fn trim_curve(c: &NurbsCurve, t0: f64, t1: f64) -> cadmorph_nurbs::Result<NurbsCurve> {
-    let d = c.domain();
-    let (a, b) = (*d.start(), *d.end());
-    let eps = 1e-12 * (b - a).abs().max(1.0);
-    let mut out = c.clone();
-    if t0 > a + eps && t0 < b - eps {
-        out = out.split(t0)?.1;
-    }
-    if t1 < b - eps && t1 > t0 + eps {
-        out = out.split(t1)?.0;
-    }
-    Ok(out)
 }
 
 impl SurfaceGeom {
