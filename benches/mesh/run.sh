@@ -99,5 +99,5 @@ if [ -n "$vtu" ]; then
     echo "meshio VTU read+write           : $(stats "${mrw[@]}")"
     echo "  ratio meshio / cadmorph VTU (median): $(ratio ${#mrw[@]} "${mrw[@]}" "${vrw[@]}")x"
 fi
-/usr/bin/time -v "$bench" rbf "$case" "$centres" 2> "$work/time.rbf" | sed 's/^/RBF volume morph: /'
+[ "${SKIP_RBF:-}" ] || /usr/bin/time -v "$bench" rbf "$case" "$centres" 2> "$work/time.rbf" | sed 's/^/RBF volume morph: /'
 grep -E "Maximum resident|Elapsed" "$work/time.rbf" | sed 's/^/  /'

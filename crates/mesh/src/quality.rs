@@ -64,7 +64,7 @@ pub fn face_centre_and_area(points: &[Point3<f64>], f: &[usize]) -> (Point3<f64>
     let (mut sum_n, mut sum_a, mut sum_ac) = (Vector3::zeros(), 0.0, Vector3::zeros());
     for k in 0..n {
         let p = points[f[k]].coords;
-        let q = points[f[(k + 1) % n]].coords;
+        let q = points[f[if k + 1 == n { 0 } else { k + 1 }]].coords;
         let c = p + q + est;
         let nv = (q - p).cross(&(est - p));
         let a = nv.norm();
@@ -318,13 +318,19 @@ fn concavity(points: &[Point3<f64>], f: &[usize], fa: &Vector3<f64>) -> f64 {
     let n = f.len();
     let normal = fa / (fa.norm() + VSMALL);
     let mut max_sin: f64 = 0.0;
+    if n == 0 {
+        return max_sin;
+    }
+    // The unit edge from point k to point k + 1 (each edge serves two corners).
+    let edge = |k: usize| {
+        let d = points[f[if k + 1 == n { 0 } else { k + 1 }]] - points[f[k]];
+        d / (d.norm() + VSMALL)
+    };
+    let mut e_prev = edge(n - 1);
     for k in 0..n {
-        let prev = points[f[(k + n - 1) % n]];
-        let this = points[f[k]];
-        let next = points[f[(k + 1) % n]];
-        let e_prev = (this - prev) / ((this - prev).norm() + VSMALL);
-        let e_next = (next - this) / ((next - this).norm() + VSMALL);
+        let e_next = edge(k);
         let en = e_prev.cross(&e_next);
+        e_prev = e_next;
         if en.dot(&normal) < SMALL {
             let m = en.norm();
             if m > VSMALL {
@@ -345,7 +351,7 @@ fn flatness(points: &[Point3<f64>], f: &[usize], fc: &Point3<f64>, fa: &Vector3<
     let mut sum = 0.0;
     for k in 0..n {
         let p = points[f[k]];
-        let q = points[f[(k + 1) % n]];
+        let q = points[f[if k + 1 == n { 0 } else { k + 1 }]];
         sum += (0.5 * (q - p).cross(&(fc - p))).norm();
     }
     Some(mag / (sum + ROOTVSMALL))
@@ -353,6 +359,161 @@ fn flatness(points: &[Point3<f64>], f: &[usize], fc: &Point3<f64>, fa: &Vector3<
 
 fn coupled(kind: &str) -> bool {
     matches!(kind, "cyclic" | "cyclicAMI" | "cyclicACMI" | "processor" | "processorCyclic" | "cyclicSlip")
+}
+
+/// Faces per task of the face checks: a fixed size, so that sums come out the same for
+/// any number of threads.
+const FACE_CHUNK: usize = 16384;
+
+/// What the per-face checks of [`Quality`] gather (each `Worst` keeps the first face
+/// where the extreme is reached, as a sequential scan does).
+#[derive(Debug, Clone, Copy)]
+struct FaceChecks {
+    min_area: Worst,
+    max_area: Worst,
+    /// Smallest cosine between the face normal and the owner→neighbour line.
+    min_cos: Worst,
+    cos_sum: f64,
+    severe: usize,
+    ortho_errors: usize,
+    pyramid_errors: usize,
+    min_pyramid: Worst,
+    max_skew: Worst,
+    highly_skew: usize,
+    max_sin: Worst,
+    concave: usize,
+    min_flat: Worst,
+    flat_sum: f64,
+    flat_count: usize,
+    warped: usize,
+}
+
+fn lower(a: &mut Worst, b: Worst) {
+    if b.value < a.value {
+        *a = b;
+    }
+}
+
+fn higher(a: &mut Worst, b: Worst) {
+    if b.value > a.value {
+        *a = b;
+    }
+}
+
+impl FaceChecks {
+    fn empty() -> FaceChecks {
+        let lo = Worst { index: 0, value: f64::INFINITY };
+        let hi = Worst { index: 0, value: f64::NEG_INFINITY };
+        FaceChecks {
+            min_area: lo,
+            max_area: hi,
+            min_cos: lo,
+            cos_sum: 0.0,
+            severe: 0,
+            ortho_errors: 0,
+            pyramid_errors: 0,
+            min_pyramid: lo,
+            max_skew: hi,
+            highly_skew: 0,
+            max_sin: hi,
+            concave: 0,
+            min_flat: Worst { index: 0, value: 1.0 },
+            flat_sum: 0.0,
+            flat_count: 0,
+            warped: 0,
+        }
+    }
+
+    /// Fold the checks of the faces after `self`'s into it.
+    fn then(mut self, b: FaceChecks) -> FaceChecks {
+        lower(&mut self.min_area, b.min_area);
+        higher(&mut self.max_area, b.max_area);
+        lower(&mut self.min_cos, b.min_cos);
+        self.cos_sum += b.cos_sum;
+        self.severe += b.severe;
+        self.ortho_errors += b.ortho_errors;
+        self.pyramid_errors += b.pyramid_errors;
+        lower(&mut self.min_pyramid, b.min_pyramid);
+        higher(&mut self.max_skew, b.max_skew);
+        self.highly_skew += b.highly_skew;
+        higher(&mut self.max_sin, b.max_sin);
+        self.concave += b.concave;
+        lower(&mut self.min_flat, b.min_flat);
+        self.flat_sum += b.flat_sum;
+        self.flat_count += b.flat_count;
+        self.warped += b.warped;
+        self
+    }
+
+    /// The checks of faces `range`.
+    fn of_faces(mesh: &PolyMesh, g: &Geometry, skip: &[bool], range: std::ops::Range<usize>) -> FaceChecks {
+        let pts = &mesh.points;
+        let (own, nei) = (mesh.owner(), mesh.neighbour());
+        let ni = nei.len();
+        let severe = NON_ORTH_THRESHOLD.to_radians().cos();
+        let sin_limit = MAX_FACE_ANGLE.to_radians().sin();
+        let mut a = FaceChecks::empty();
+        for f in range {
+            let (fc, fa) = (&g.face_centres[f], &g.face_areas[f]);
+            let face = mesh.face(f);
+            let mag = fa.norm();
+            lower(&mut a.min_area, Worst { index: f, value: mag });
+            higher(&mut a.max_area, Worst { index: f, value: mag });
+            let co = &g.cell_centres[own[f]];
+            let cn = (f < ni).then(|| &g.cell_centres[nei[f]]);
+            if let Some(cn) = cn {
+                let d = cn - co;
+                let cos = d.dot(fa) / (d.norm() * mag + ROOTVSMALL);
+                if cos < severe {
+                    if cos > SMALL {
+                        a.severe += 1;
+                    } else {
+                        a.ortho_errors += 1;
+                    }
+                }
+                lower(&mut a.min_cos, Worst { index: f, value: cos });
+                a.cos_sum += cos;
+            }
+            // Face pyramids: apex at the owner centre, then at the neighbour's.
+            let v_own = fa.dot(&(fc - co)) / 3.0;
+            let sides = [Some(v_own), cn.map(|cn| -(fa.dot(&(fc - cn)) / 3.0))];
+            for v in sides.into_iter().flatten() {
+                if v < -SMALL {
+                    a.pyramid_errors += 1;
+                }
+                lower(&mut a.min_pyramid, Worst { index: f, value: v });
+            }
+            let skew = if skip[f] { 0.0 } else { skewness(pts, face, fc, fa, co, cn) };
+            higher(&mut a.max_skew, Worst { index: f, value: skew });
+            if skew > SKEW_THRESHOLD {
+                a.highly_skew += 1;
+            }
+            let sin = concavity(pts, face, fa);
+            higher(&mut a.max_sin, Worst { index: f, value: sin });
+            if sin > sin_limit {
+                a.concave += 1;
+            }
+            if let Some(v) = flatness(pts, face, fc, fa) {
+                lower(&mut a.min_flat, Worst { index: f, value: v });
+                a.flat_sum += v;
+                a.flat_count += 1;
+                if v < WARN_FLATNESS {
+                    a.warped += 1;
+                }
+            }
+        }
+        a
+    }
+
+    /// The checks of every face, in fixed chunks in parallel, folded in face order.
+    fn of(mesh: &PolyMesh, g: &Geometry, skip: &[bool]) -> FaceChecks {
+        let nf = mesh.n_faces();
+        let parts: Vec<FaceChecks> = (0..nf.div_ceil(FACE_CHUNK))
+            .into_par_iter()
+            .map(|k| FaceChecks::of_faces(mesh, g, skip, k * FACE_CHUNK..((k + 1) * FACE_CHUNK).min(nf)))
+            .collect();
+        parts.into_iter().fold(FaceChecks::empty(), FaceChecks::then)
+    }
 }
 
 impl Quality {
@@ -462,13 +623,6 @@ impl Quality {
             ));
         }
 
-        // checkFaceAreas.
-        let min_face_area = min_by(g.face_areas.iter().map(|a| a.norm()));
-        let max_face_area = max_by(g.face_areas.iter().map(|a| a.norm()));
-        if min_face_area.value < VSMALL {
-            failed.push(format!("zero or negative face area at face {}", min_face_area.index));
-        }
-
         // checkCellVolumes.
         let min_volume = min_by(g.cell_volumes.iter().copied());
         let max_volume = max_by(g.cell_volumes.iter().copied());
@@ -481,102 +635,56 @@ impl Quality {
             ));
         }
 
-        // checkFaceOrthogonality (internal faces).
-        let severe = NON_ORTH_THRESHOLD.to_radians().cos();
-        let ortho: Vec<f64> = (0..ni)
-            .map(|f| {
-                let d = g.cell_centres[nei[f]] - g.cell_centres[own[f]];
-                let s = g.face_areas[f];
-                d.dot(&s) / (d.norm() * s.norm() + ROOTVSMALL)
-            })
-            .collect();
-        let (mut severely_non_orthogonal, mut non_orthogonality_errors) = (0, 0);
-        for &o in &ortho {
-            if o < severe {
-                if o > SMALL {
-                    severely_non_orthogonal += 1;
-                } else {
-                    non_orthogonality_errors += 1;
-                }
+        // checkFaceAreas, checkFaceOrthogonality (internal faces), checkFacePyramids,
+        // checkFaceSkewness (all faces but coupled ones) and the -allGeometry face
+        // concavity and flatness, in one pass over the faces.
+        let mut skip = vec![false; nf];
+        for p in mesh.patches().iter().filter(|p| coupled(&p.kind)) {
+            for s in &mut skip[p.start_face..p.start_face + p.n_faces] {
+                *s = true;
             }
         }
-        let min_ortho = min_by(ortho.iter().copied());
+        let fq = FaceChecks::of(mesh, g, &skip);
+        let (min_face_area, max_face_area) = (fq.min_area, fq.max_area);
+        if min_face_area.value < VSMALL {
+            failed.push(format!("zero or negative face area at face {}", min_face_area.index));
+        }
+        let (severely_non_orthogonal, non_orthogonality_errors) = (fq.severe, fq.ortho_errors);
         let deg = |c: f64| c.clamp(-1.0, 1.0).acos().to_degrees();
         let max_non_orthogonality = if ni > 0 {
-            Worst { index: min_ortho.index, value: deg(min_ortho.value) }
+            Worst { index: fq.min_cos.index, value: deg(fq.min_cos.value) }
         } else {
             Worst { index: 0, value: 0.0 }
         };
-        let average_non_orthogonality = if ni > 0 { deg(ortho.iter().sum::<f64>() / ni as f64) } else { 0.0 };
+        let average_non_orthogonality = if ni > 0 { deg(fq.cos_sum / ni as f64) } else { 0.0 };
         if non_orthogonality_errors > 0 {
             failed.push(format!(
                 "{non_orthogonality_errors} non-orthogonality error(s) (> 90°): max {} at face {}",
                 max_non_orthogonality.value, max_non_orthogonality.index
             ));
         }
-
-        // checkFacePyramids.
-        let pyr = |f: usize, apex: &Point3<f64>, owner_side: bool| {
-            let v = g.face_areas[f].dot(&(g.face_centres[f] - apex)) / 3.0;
-            if owner_side {
-                v
-            } else {
-                -v
-            }
-        };
-        let mut pyramid_errors = 0;
-        let mut min_pyr = Worst { index: 0, value: f64::INFINITY };
-        for f in 0..nf {
-            let mut vs = vec![pyr(f, &g.cell_centres[own[f]], true)];
-            if f < ni {
-                vs.push(pyr(f, &g.cell_centres[nei[f]], false));
-            }
-            for v in vs {
-                if v < -SMALL {
-                    pyramid_errors += 1;
-                }
-                if v < min_pyr.value {
-                    min_pyr = Worst { index: f, value: v };
-                }
-            }
-        }
+        let (pyramid_errors, min_pyr) = (fq.pyramid_errors, fq.min_pyramid);
         if pyramid_errors > 0 {
             failed.push(format!(
                 "{pyramid_errors} incorrectly oriented face pyramid(s): minimum volume {:e} at face {}",
                 min_pyr.value, min_pyr.index
             ));
         }
-
-        // checkFaceSkewness (all faces but coupled ones).
-        let skew = face_skewness(mesh, g);
-        let max_skewness = max_by(skew.iter().copied());
-        let highly_skew_faces = skew.iter().filter(|&&s| s > SKEW_THRESHOLD).count();
+        let (max_skewness, highly_skew_faces) = (fq.max_skew, fq.highly_skew);
         if highly_skew_faces > 0 {
             failed.push(format!(
                 "max skewness {} at face {}: {highly_skew_faces} highly skew face(s)",
                 max_skewness.value, max_skewness.index
             ));
         }
-
-        // -allGeometry: face concavity and flatness (reported, not counted as failures,
-        // as in checkMesh without -allGeometry).
-        let conc: Vec<f64> = (0..nf).map(|f| concavity(pts, mesh.face(f), &g.face_areas[f])).collect();
-        let max_sin = max_by(conc.iter().copied());
-        let limit = MAX_FACE_ANGLE.to_radians().sin();
-        let concave_faces = conc.iter().filter(|&&s| s > limit).count();
+        // -allGeometry checks are reported, not counted as failures, as in checkMesh
+        // without -allGeometry.
+        let max_sin = fq.max_sin;
+        let concave_faces = fq.concave;
         let max_concave_angle = Worst { index: max_sin.index, value: max_sin.value.min(1.0).asin().to_degrees() };
-        let flat: Vec<(usize, f64)> = (0..nf)
-            .filter_map(|f| flatness(pts, mesh.face(f), &g.face_centres[f], &g.face_areas[f]).map(|v| (f, v)))
-            .collect();
-        let mut min_flatness = Worst { index: 0, value: 1.0 };
-        for &(f, v) in &flat {
-            if v < min_flatness.value {
-                min_flatness = Worst { index: f, value: v };
-            }
-        }
-        let average_flatness =
-            if flat.is_empty() { 1.0 } else { flat.iter().map(|x| x.1).sum::<f64>() / flat.len() as f64 };
-        let warped_faces = flat.iter().filter(|x| x.1 < WARN_FLATNESS).count();
+        let min_flatness = fq.min_flat;
+        let average_flatness = if fq.flat_count == 0 { 1.0 } else { fq.flat_sum / fq.flat_count as f64 };
+        let warped_faces = fq.warped;
 
         Quality {
             points: pts.len(),

@@ -247,6 +247,40 @@ pub(crate) fn label_list(bytes: &[u8]) -> Result<(Header, Vec<i64>)> {
     Ok((h, v))
 }
 
+/// A `labelList` file through the fast path ([`super::fast::labels`]): `None` when it is
+/// not a plain ASCII list of unsigned labels (then [`label_list`] reads it, or names what
+/// is wrong).
+pub(crate) fn label_list_fast(bytes: &[u8]) -> Option<(Header, Vec<usize>)> {
+    let mut lx = Lexer::new(bytes);
+    let h = read_header(&mut lx).ok()?;
+    if h.binary {
+        return None;
+    }
+    let n = lx.count(bytes.len()).ok()?;
+    lx.expect(b'(', "").ok()?;
+    let (v, close) = super::fast::labels(bytes, lx.pos, n)?;
+    lx.pos = close;
+    lx.expect(b')', "").ok()?;
+    Some((h, v))
+}
+
+/// A `faceList` file through the fast path ([`super::fast::faces`]): CSR offsets and
+/// point labels, or `None` when it is not a plain ASCII face list (then [`face_list`]
+/// reads it, or names what is wrong).
+pub(crate) fn face_list_fast(bytes: &[u8]) -> Option<(Header, Vec<usize>, Vec<usize>)> {
+    let mut lx = Lexer::new(bytes);
+    let h = read_header(&mut lx).ok()?;
+    if h.binary || h.class == "faceCompactList" {
+        return None;
+    }
+    let n = lx.count(bytes.len()).ok()?;
+    lx.expect(b'(', "").ok()?;
+    let (offsets, points, close) = super::fast::faces(bytes, lx.pos, n)?;
+    lx.pos = close;
+    lx.expect(b')', "").ok()?;
+    Some((h, offsets, points))
+}
+
 /// Read a `faceList` (`N ( n(a b c) … )`) or `faceCompactList` (offsets list, then the
 /// flat point list) file: the CSR offsets and the point labels.
 pub(crate) fn face_list(bytes: &[u8]) -> Result<(Header, Vec<usize>, Vec<i64>)> {

@@ -4,15 +4,18 @@
 //! `cellZones`, `meshModifiers`, anything unknown) is kept byte for byte, and so are the
 //! topology files: a morph rewrites `points` only.
 
+mod fast;
 mod file;
 mod points;
 
 pub use file::Header;
 pub use points::FoamPoints;
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use nalgebra::Point3;
+use rayon::prelude::*;
 
 use crate::error::io;
 use crate::{Error, Result};
@@ -53,22 +56,6 @@ struct Source {
     /// The parsed points file and whether it was gzipped.
     points: FoamPoints,
     points_gz: bool,
-}
-
-/// Read `dir/name` or `dir/name.gz`: (decompressed bytes, was gzipped, file name).
-fn read_maybe_gz(dir: &Path, name: &str) -> Result<Option<(Vec<u8>, bool, PathBuf)>> {
-    let plain = dir.join(name);
-    let gz = dir.join(format!("{name}.gz"));
-    let (path, is_gz) = if plain.is_file() {
-        (plain, false)
-    } else if gz.is_file() {
-        (gz, true)
-    } else {
-        return Ok(None);
-    };
-    let bytes = std::fs::read(&path).map_err(io(&path))?;
-    let bytes = file::maybe_gunzip(bytes, is_gz).map_err(|e| e.in_file(&path))?;
-    Ok(Some((bytes, is_gz, path)))
 }
 
 impl PolyMesh {
@@ -113,54 +100,75 @@ impl PolyMesh {
     pub fn read(dir: &Path) -> Result<PolyMesh> {
         let dir =
             if dir.join("constant/polyMesh").is_dir() { dir.join("constant/polyMesh") } else { dir.to_path_buf() };
-        let need = |name: &str| -> Result<(Vec<u8>, bool, PathBuf)> {
-            read_maybe_gz(&dir, name)?.ok_or_else(|| Error::Io {
-                path: dir.join(name),
-                source: std::io::Error::new(std::io::ErrorKind::NotFound, "no such file (nor .gz)"),
-            })
-        };
-        let (pb, points_gz, pp) = need("points")?;
-        let points = FoamPoints::parse(&pb).map_err(|e| e.in_file(&pp))?;
-        let (fb, _, fp) = need("faces")?;
-        let (_, face_offsets, flat) = file::face_list(&fb).map_err(|e| e.in_file(&fp))?;
-        let (ob, _, op) = need("owner")?;
-        let (oh, owner) = file::label_list(&ob).map_err(|e| e.in_file(&op))?;
-        let (nb, _, np) = need("neighbour")?;
-        let (_, neighbour) = file::label_list(&nb).map_err(|e| e.in_file(&np))?;
-        let (bb, _, bp) = need("boundary")?;
-        let patches = read_boundary(&bb).map_err(|e| e.in_file(&bp))?;
-
-        let np_ = points.points.len();
-        let mut face_points = Vec::with_capacity(flat.len());
-        for (k, &v) in flat.iter().enumerate() {
-            if v < 0 || v as usize >= np_ {
-                let face = face_offsets.partition_point(|&o| o <= k).saturating_sub(1);
-                return Err(Error::OutOfRange {
-                    what: "face",
-                    index: face,
-                    target_kind: "point",
-                    target: v,
-                    count: np_,
-                }
-                .in_file(&fp));
+        // Every regular file of the directory, read once (in parallel: the four lists are
+        // nearly all of a mesh) and kept as on disk for lossless writing.
+        let mut paths = Vec::new();
+        for e in std::fs::read_dir(&dir).map_err(io(&dir))? {
+            let e = e.map_err(io(&dir))?;
+            let p = e.path();
+            if p.is_file() {
+                paths.push((e.file_name().to_string_lossy().into_owned(), p));
             }
-            face_points.push(v as usize);
         }
-        let to_cells = |v: Vec<i64>, what: &'static str, path: &Path| -> Result<Vec<usize>> {
-            v.into_iter()
-                .enumerate()
-                .map(|(i, c)| {
-                    if c < 0 || c > i32::MAX as i64 {
-                        Err(Error::OutOfRange { what, index: i, target_kind: "cell", target: c, count: 0 }
-                            .in_file(path))
-                    } else {
-                        Ok(c as usize)
-                    }
-                })
-                .collect()
+        paths.sort();
+        let mut files: Vec<(String, Vec<u8>)> =
+            paths.into_par_iter().map(|(n, p)| Ok((n, std::fs::read(&p).map_err(io(&p))?))).collect::<Result<_>>()?;
+        // A plain points file is handed to the points reader, which keeps it as its text
+        // (its entry here stays empty; `to_files` writes it from the reader).
+        let (points_file, points_gz, pp) = match files.iter_mut().find(|(n, _)| n == "points") {
+            Some((_, b)) => (std::mem::take(b), false, dir.join("points")),
+            None => match files.iter().find(|(n, _)| n == "points.gz") {
+                Some((_, b)) => {
+                    let path = dir.join("points.gz");
+                    (file::maybe_gunzip(b.clone(), true).map_err(|e| e.in_file(&path))?, true, path)
+                }
+                None => return Err(missing(&dir, "points")),
+            },
         };
-        let owner = to_cells(owner, "owner entry of face", &op)?;
-        let neighbour = to_cells(neighbour, "neighbour entry of face", &np)?;
+        let need = |name: &str| -> Result<(Cow<'_, [u8]>, PathBuf)> {
+            let gz = format!("{name}.gz");
+            if let Some((_, b)) = files.iter().find(|(n, _)| n == name) {
+                return Ok((Cow::Borrowed(b.as_slice()), dir.join(name)));
+            }
+            if let Some((_, b)) = files.iter().find(|(n, _)| *n == gz) {
+                let path = dir.join(&gz);
+                let bytes = file::maybe_gunzip(b.clone(), true).map_err(|e| e.in_file(&path))?;
+                return Ok((Cow::Owned(bytes), path));
+            }
+            Err(missing(&dir, name))
+        };
+        let (fb, fp) = need("faces")?;
+        let (ob, op) = need("owner")?;
+        let (nb, np) = need("neighbour")?;
+        let (bb, bp) = need("boundary")?;
+        let patches = read_boundary(&bb).map_err(|e| e.in_file(&bp))?;
+        let ((points, faces), (owner, neighbour)) = rayon::join(
+            || {
+                rayon::join(
+                    || FoamPoints::parse_owned(points_file).map_err(|e| e.in_file(&pp)),
+                    || read_faces(&fb, &fp),
+                )
+            },
+            || {
+                rayon::join(
+                    || read_cells(&ob, "owner entry of face", &op),
+                    || read_cells(&nb, "neighbour entry of face", &np),
+                )
+            },
+        );
+        let (points, (face_offsets, face_points), (oh, owner), (_, neighbour)) = (points?, faces?, owner?, neighbour?);
+        let np_ = points.points.len();
+        if let Some(k) = first_where(&face_points, |v| v >= np_) {
+            let face = face_offsets.partition_point(|&o| o <= k).saturating_sub(1);
+            return Err(Error::OutOfRange {
+                what: "face",
+                index: face,
+                target_kind: "point",
+                target: face_points[k] as i64,
+                count: np_,
+            }
+            .in_file(&fp));
+        }
         let n_from_data = owner.iter().chain(neighbour.iter()).map(|&c| c + 1).max().unwrap_or(0);
         // The owner note gives nCells; a label beyond it is out of range.
         let n_cells = note_value(&oh.note, "nCells").unwrap_or(n_from_data);
@@ -181,17 +189,6 @@ impl PolyMesh {
             }
             .in_file(&op));
         }
-        let mut files = Vec::new();
-        let entries = std::fs::read_dir(&dir).map_err(io(&dir))?;
-        for e in entries {
-            let e = e.map_err(io(&dir))?;
-            let p = e.path();
-            if p.is_file() {
-                let bytes = std::fs::read(&p).map_err(io(&p))?;
-                files.push((e.file_name().to_string_lossy().into_owned(), bytes));
-            }
-        }
-        files.sort();
         let m = PolyMesh {
             points: points.points.clone(),
             face_offsets,
@@ -323,7 +320,10 @@ impl PolyMesh {
             .files
             .iter()
             .map(|(n, b)| {
-                if n == name && !unchanged {
+                // The plain points file's entry is empty (the reader kept it): its lossless
+                // write is the file as read when no point moved. A gzipped one is kept as
+                // read unless a point moved.
+                if n == name && (!unchanged || !src.points_gz) {
                     (PathBuf::from(n), bytes.clone())
                 } else {
                     (PathBuf::from(n), b.clone())
@@ -398,6 +398,59 @@ impl PolyMesh {
 }
 
 /// `key:value` from an owner file's `note` (`"nPoints:882 nCells:400 …"`).
+/// A required polyMesh file that is not there (nor gzipped).
+fn missing(dir: &Path, name: &str) -> Error {
+    Error::Io {
+        path: dir.join(name),
+        source: std::io::Error::new(std::io::ErrorKind::NotFound, "no such file (nor .gz)"),
+    }
+}
+
+/// The first index of `v` where `bad` holds (a scan of the whole slice: a check that
+/// expects no hit; rayon's item-wise `position_first` costs more than the scan).
+fn first_where(v: &[usize], bad: impl Fn(usize) -> bool) -> Option<usize> {
+    v.iter().position(|&x| bad(x))
+}
+
+/// The faces file: CSR offsets and point labels (not yet checked against the point
+/// count), through the fast path when it can.
+fn read_faces(bytes: &[u8], path: &Path) -> Result<(Vec<usize>, Vec<usize>)> {
+    if let Some((_, offsets, points)) = file::face_list_fast(bytes) {
+        return Ok((offsets, points));
+    }
+    let (_, offsets, flat) = file::face_list(bytes).map_err(|e| e.in_file(path))?;
+    let mut points = Vec::with_capacity(flat.len());
+    for (k, &v) in flat.iter().enumerate() {
+        if v < 0 {
+            let face = offsets.partition_point(|&o| o <= k).saturating_sub(1);
+            return Err(Error::OutOfRange { what: "face", index: face, target_kind: "point", target: v, count: 0 }
+                .in_file(path));
+        }
+        points.push(v as usize);
+    }
+    Ok((offsets, points))
+}
+
+/// An owner or neighbour file: its header and cell labels (`what` names an entry in
+/// errors), through the fast path when it can.
+fn read_cells(bytes: &[u8], what: &'static str, path: &Path) -> Result<(file::Header, Vec<usize>)> {
+    let out_of_range =
+        |i: usize, c: i64| Error::OutOfRange { what, index: i, target_kind: "cell", target: c, count: 0 }.in_file(path);
+    if let Some((h, v)) = file::label_list_fast(bytes) {
+        if let Some(i) = first_where(&v, |c| c > i32::MAX as usize) {
+            return Err(out_of_range(i, v[i] as i64));
+        }
+        return Ok((h, v));
+    }
+    let (h, v) = file::label_list(bytes).map_err(|e| e.in_file(path))?;
+    let cells = v
+        .into_iter()
+        .enumerate()
+        .map(|(i, c)| if c < 0 || c > i32::MAX as i64 { Err(out_of_range(i, c)) } else { Ok(c as usize) })
+        .collect::<Result<_>>()?;
+    Ok((h, cells))
+}
+
 fn note_value(note: &str, key: &str) -> Option<usize> {
     note.split_whitespace().find_map(|kv| kv.strip_prefix(key)?.strip_prefix(':')?.parse().ok())
 }

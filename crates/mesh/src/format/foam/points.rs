@@ -20,6 +20,38 @@ enum Layout {
     Binary(Range<usize>),
 }
 
+/// The `(x y z)` records of an ASCII point list through the general lexer (the path that
+/// names the line of a bad entry): each record's byte range and its point.
+fn ascii_records(lx: &mut Lexer<'_>, n: usize) -> Result<Vec<(Range<usize>, Point3<f64>)>> {
+    let mut records = Vec::with_capacity(n.min(lx.bytes.len() / 7));
+    for _ in 0..n {
+        lx.skip_ws();
+        let start = lx.pos;
+        lx.expect(b'(', "`(` opening a point")?;
+        let mut c = [0.0; 3];
+        for v in &mut c {
+            lx.skip_ws();
+            let save = lx.pos;
+            match lx.next() {
+                Some(Tok::Word(w)) => match w.parse::<f64>() {
+                    Ok(x) => *v = x,
+                    Err(_) => {
+                        lx.pos = save;
+                        return Err(lx.error("a coordinate"));
+                    }
+                },
+                _ => {
+                    lx.pos = save;
+                    return Err(lx.error("a coordinate"));
+                }
+            }
+        }
+        lx.expect(b')', "`)` closing a point (three coordinates)")?;
+        records.push((start..lx.pos, Point3::new(c[0], c[1], c[2])));
+    }
+    Ok(records)
+}
+
 /// An OpenFOAM points file.
 ///
 /// # Examples
@@ -51,6 +83,12 @@ impl FoamPoints {
     /// [`Error::Syntax`] with the line of a malformed entry or a wrong list size;
     /// [`Error::Binary`] for a truncated binary list; [`Error::NonFinite`] for NaN.
     pub fn parse(bytes: &[u8]) -> Result<FoamPoints> {
+        FoamPoints::parse_owned(bytes.to_vec())
+    }
+
+    /// [`FoamPoints::parse`] of a file it may keep (no copy of the text).
+    pub(crate) fn parse_owned(file: Vec<u8>) -> Result<FoamPoints> {
+        let bytes = &file[..];
         let mut lx = Lexer::new(bytes);
         let header = read_header(&mut lx)?;
         let n = lx.count(bytes.len())?;
@@ -80,39 +118,15 @@ impl FoamPoints {
             lx.pos = start + len;
             Layout::Binary(start..start + len)
         } else {
-            let mut records = Vec::with_capacity(n);
-            for _ in 0..n {
-                lx.skip_ws();
-                let start = lx.pos;
-                lx.expect(b'(', "`(` opening a point")?;
-                let mut c = [0.0; 3];
-                for v in &mut c {
-                    lx.skip_ws();
-                    let save = lx.pos;
-                    match lx.next() {
-                        Some(Tok::Word(w)) => match w.parse::<f64>() {
-                            Ok(x) => *v = x,
-                            Err(_) => {
-                                lx.pos = save;
-                                return Err(lx.error("a coordinate"));
-                            }
-                        },
-                        _ => {
-                            lx.pos = save;
-                            return Err(lx.error("a coordinate"));
-                        }
-                    }
+            let records = match super::fast::points(bytes, lx.pos, n) {
+                Some((records, close)) => {
+                    lx.pos = close;
+                    records
                 }
-                lx.expect(b')', "`)` closing a point (three coordinates)")?;
-                let p = Point3::new(c[0], c[1], c[2]);
-                points.push(p);
-                records.push((start..lx.pos, p));
-            }
-            let text = String::from_utf8(bytes.to_vec()).map_err(|e| Error::Binary {
-                offset: e.utf8_error().valid_up_to(),
-                what: "an ASCII points file that is not UTF-8".into(),
-            })?;
-            Layout::Ascii(NodeLines { text, records })
+                None => ascii_records(&mut lx, n)?,
+            };
+            points.extend(records.iter().map(|r| r.1));
+            Layout::Ascii(NodeLines { text: String::new(), records })
         };
         lx.expect(b')', "`)` closing the point list (is the size right?)")?;
         for (i, p) in points.iter().enumerate() {
@@ -122,7 +136,18 @@ impl FoamPoints {
                 }
             }
         }
-        Ok(FoamPoints { points, header, bytes: bytes.to_vec(), layout })
+        // The ASCII layout keeps the file as its text; the binary one as its bytes.
+        let (bytes, layout) = match layout {
+            Layout::Ascii(lines) => {
+                let text = String::from_utf8(file).map_err(|e| Error::Binary {
+                    offset: e.utf8_error().valid_up_to(),
+                    what: "an ASCII points file that is not UTF-8".into(),
+                })?;
+                (Vec::new(), Layout::Ascii(NodeLines { text, ..lines }))
+            }
+            binary => (file, binary),
+        };
+        Ok(FoamPoints { points, header, bytes, layout })
     }
 
     /// The file with the current points: unchanged entries as read; moved ones as
