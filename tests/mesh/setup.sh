@@ -7,7 +7,8 @@
 #    with apt-get when `/usr/share/openfoam/etc/bashrc` is missing; apt is
 #    retried while another process holds the dpkg lock.
 # 2. A venv at tests/mesh/.venv with the pins of requirements.txt (meshio, gmsh; pyarrow
-#    for the campaign table).
+#    for the campaign table) and, without their declared dependencies, those of
+#    requirements-nodeps.txt (PyDyna's LS-DYNA keyword reader).
 #
 # Prints the venv's python on the last line (PY=$(bash setup.sh | tail -1)). The OpenFOAM
 # environment is sourced by the tests themselves from the bashrc above.
@@ -16,6 +17,7 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 venv="$here/.venv"
 req="$here/requirements.txt"
+req_nodeps="$here/requirements-nodeps.txt"
 stamp="$venv/.cadmorph-requirements"
 python="${PYTHON:-python3.11}"
 foam_bashrc=/usr/share/openfoam/etc/bashrc
@@ -41,9 +43,9 @@ if [ ! -f "$foam_bashrc" ] || ! command -v checkMesh >/dev/null; then
 fi
 
 probe() {
-    "$venv/bin/python" -c 'import meshio, gmsh, numpy, pyarrow.parquet' 2>&1
+    "$venv/bin/python" -c 'import meshio, gmsh, numpy, pyarrow.parquet; from ansys.dyna.core import Deck' 2>&1
 }
-if [ -x "$venv/bin/python" ] && [ -f "$stamp" ] && cmp -s "$req" "$stamp" && probe >/dev/null; then
+if [ -x "$venv/bin/python" ] && [ -f "$stamp" ] && cat "$req" "$req_nodeps" | cmp -s - "$stamp" && probe >/dev/null; then
     echo "mesh venv up to date: $venv" >&2
 else
     if [ ! -x "$venv/bin/python" ]; then
@@ -51,12 +53,13 @@ else
         "$python" -m venv "$venv"
     fi
     "$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r "$req" >&2
+    "$venv/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps -r "$req_nodeps" >&2
     if ! err=$(probe); then
-        echo "error: meshio/gmsh do not load in $venv:" >&2
+        echo "error: meshio/gmsh/pyarrow/PyDyna do not load in $venv:" >&2
         echo "$err" >&2
         exit 1
     fi
-    cp "$req" "$stamp"
+    cat "$req" "$req_nodeps" > "$stamp"
 fi
 echo "mesh oracles ready in $(( $(date +%s) - start )) s" >&2
 echo "$venv/bin/python"

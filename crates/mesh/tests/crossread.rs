@@ -4,6 +4,9 @@
 //! reads each with the same points and cells as meshio, writes it back unchanged byte for
 //! byte, and after a morph writes files meshio reads back with cadmorph's points.
 //!
+//! UNV and LS-DYNA keyword files, which meshio does not read, are cross-read with gmsh
+//! (its UNV reader and writer) and Ansys PyDyna's keyword deck (its reader and writer).
+//!
 //! `#[ignore]`d in a plain `cargo test`; `scripts/test` runs it.
 
 use std::path::{Path, PathBuf};
@@ -30,13 +33,25 @@ fn oracle(args: &[&str]) -> String {
     String::from_utf8(out.stdout).unwrap()
 }
 
+/// The 16-column cards of a `.k` file carry moved coordinates as `{:.10}` (PyGeM's form).
+const DYNA_MATCH: f64 = 1e-10;
+
+fn pygem_data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/pygem-testdata").join(name)
+}
+
 struct Meshio {
     points: Vec<Point3<f64>>,
     cells: serde_json::Map<String, serde_json::Value>,
 }
 
 fn meshio_read(path: &Path) -> Meshio {
-    let v: serde_json::Value = serde_json::from_str(&oracle(&["read", path.to_str().unwrap()])).unwrap();
+    reader_read("read", path)
+}
+
+/// What the oracle's reader `op` (`read`: meshio, `gmsh`, `dyna`: PyDyna) finds in `path`.
+fn reader_read(op: &str, path: &Path) -> Meshio {
+    let v: serde_json::Value = serde_json::from_str(&oracle(&[op, path.to_str().unwrap()])).unwrap();
     let points = v["points"]
         .as_array()
         .unwrap()
@@ -125,6 +140,50 @@ fn formats_cross_read_with_meshio_and_gmsh() {
         eprintln!("{name}: {} points, {:?}: cross-read OK", file.points().len(), theirs.cells);
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// UNV (I-DEAS 2411/2412) through gmsh and LS-DYNA `.k` through PyDyna: files each of
+/// them wrote (gmsh's UNV of the box with a hole; PyDyna's deck of its tetrahedra as
+/// degenerate hexahedra) and PyGeM's test squares. cadmorph reads the points and cells
+/// the independent reader reads, writes an unchanged file back byte for byte, and after a
+/// morph writes a file the independent reader reads with cadmorph's points.
+#[test]
+#[ignore = "needs the meshio/gmsh/PyDyna venv (tests/mesh/setup.sh)"]
+fn unv_and_keyword_files_cross_read_with_gmsh_and_pydyna() {
+    let scratch = cadmorph_testkit::Scratch::new("mesh-cross-unv-k");
+    let dir = scratch.dir();
+    oracle(&["make", dir.to_str().unwrap()]);
+    let morph = Affine::translation(Vector3::new(0.1, -0.2, 0.3)).then(Affine::scaling(Vector3::new(1.5, 1.0, 0.5)));
+    for (path, reader, tol) in [
+        (dir.join("box.unv"), "gmsh", TEXT_MATCH),
+        (pygem_data("test_square.unv"), "gmsh", TEXT_MATCH),
+        (dir.join("box.k"), "dyna", DYNA_MATCH),
+        (pygem_data("test_square.k"), "dyna", DYNA_MATCH),
+    ] {
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let file = MeshFile::read(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let theirs = reader_read(reader, &path);
+        assert_same_points(file.points(), &theirs.points, TEXT_MATCH, false, &name);
+        for (kind, rname) in [
+            (CellKind::Tetra, "tetra"),
+            (CellKind::Triangle, "triangle"),
+            (CellKind::Quad, "quad"),
+            (CellKind::Hexahedron, "hexahedron"),
+        ] {
+            assert_eq!(count(&file, kind), meshio_count(&theirs, rname), "{name}: {rname} count");
+        }
+        let same = dir.join(format!("same_{name}"));
+        file.write(&same).unwrap();
+        assert!(std::fs::read(&same).unwrap() == std::fs::read(&path).unwrap(), "{name}: unchanged write differs");
+        let mut moved = file.clone();
+        morph.deform(moved.points_mut());
+        let out = dir.join(format!("moved_{name}"));
+        moved.write(&out).unwrap();
+        let back = reader_read(reader, &out);
+        assert_same_points(moved.points(), &back.points, tol, false, &format!("moved {name}"));
+        assert_eq!(back.cells, theirs.cells, "moved {name}: cells");
+        eprintln!("{name}: {} points, {:?}: cross-read by {reader} OK", file.points().len(), theirs.cells);
+    }
 }
 
 /// gmsh's unstructured tetrahedra around a sphere (the body): the sphere's nodes move by

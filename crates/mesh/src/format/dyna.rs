@@ -1,6 +1,8 @@
 //! LS-DYNA keyword files (`.k`, LS-DYNA Keyword User's Manual vol. I, `*NODE` and
 //! `*ELEMENT_SHELL`/`*ELEMENT_SOLID`): a `*NODE` card is `NID X Y Z [TC RC]` in fixed
-//! columns (I8, 3×E16, I8, I8) or free format separated by commas; `$` starts a comment;
+//! columns (I8, 3×E16, I8, I8) or free format separated by commas; an element card is
+//! `EID PID N1 …` on one line, or for `*ELEMENT_SOLID` also in the two-card form (`EID PID`,
+//! then `N1 … N10`); `$` starts a comment;
 //! each keyword block runs to the next line starting with `*`. Every other keyword is
 //! kept verbatim.
 
@@ -77,12 +79,15 @@ impl KeywordFile {
             Solid,
         }
         let mut block = Block::Other;
+        // The line of an `*ELEMENT_SOLID` card holding only `EID PID`.
+        let mut solid_head: Option<usize> = None;
         for (n, r) in line_ranges(text).into_iter().enumerate() {
             let line = trim_eol(&text[r.clone()]);
             if line.starts_with('$') || line.trim().is_empty() {
                 continue;
             }
             if let Some(kw) = line.strip_prefix('*') {
+                solid_head = None;
                 let kw = kw.trim().to_ascii_uppercase();
                 block = if kw == "NODE" {
                     Block::Node
@@ -111,7 +116,15 @@ impl KeywordFile {
                     let f = fields(line, &[8; 10]);
                     let v: Result<Vec<i64>> = f.iter().map(|s| parse_i64(s, n + 1)).collect();
                     if let Ok(v) = v {
-                        if v.len() >= 5 {
+                        if let Some(head) = solid_head.take() {
+                            // The second card of the two-card form: N1 … N10 (zeros unused).
+                            let nodes: Vec<i64> = v.into_iter().take(8).collect();
+                            raw.push((head, true, nodes));
+                        } else if block == Block::Solid && v.len() == 2 {
+                            // `EID PID` alone: the two-card form (PyDyna, LS-PrePost's
+                            // newer decks), the nodes on the next card.
+                            solid_head = Some(n + 1);
+                        } else if v.len() >= 5 {
                             raw.push((n + 1, block == Block::Solid, v[2..].to_vec()));
                         }
                     }
@@ -196,4 +209,22 @@ fn fit16(x: f64) -> String {
         }
     }
     format!("{x:e}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `*ELEMENT_SOLID` in the one-card and the two-card form give the same tetrahedra.
+    #[test]
+    fn solid_cards_in_both_forms() {
+        let nodes = "*NODE\n       1             0.0             0.0             0.0\n       2             1.0             0.0             0.0\n       3             0.0             1.0             0.0\n       4             0.0             0.0             1.0\n";
+        let one = format!("*KEYWORD\n{nodes}*ELEMENT_SOLID\n       7       1       1       2       3       4       4       4       4       4\n*END\n");
+        let two = format!("*KEYWORD\n{nodes}*ELEMENT_SOLID\n$#   eid     pid\n       7       1\n$#    n1      n2      n3      n4      n5      n6      n7      n8      n9     n10\n       1       2       3       4       4       4       4       4                \n*END\n");
+        let a = KeywordFile::parse(&one).unwrap();
+        let b = KeywordFile::parse(&two).unwrap();
+        assert_eq!(a.cells, vec![Cell::new(CellKind::Tetra, vec![0, 1, 2, 3])]);
+        assert_eq!(b.cells, a.cells);
+        assert_eq!(b.write(), two);
+    }
 }
