@@ -82,43 +82,82 @@ pub fn face_centre_and_area(points: &[Point3<f64>], f: &[usize]) -> (Point3<f64>
 impl Geometry {
     /// The geometry of `mesh`.
     pub fn of(mesh: &PolyMesh) -> Geometry {
+        Geometry::with_cells(mesh, &CellFaces::of(mesh))
+    }
+
+    /// [`Geometry::of`] with the cells' faces already listed: the faces in parallel, then
+    /// the cells in parallel, each summing over its faces in the order OpenFOAM's loops
+    /// add them (so the numbers are the same as its sequential loops give).
+    fn with_cells(mesh: &PolyMesh, cf: &CellFaces) -> Geometry {
         let nf = mesh.n_faces();
         let (face_centres, face_areas): (Vec<_>, Vec<_>) =
             (0..nf).into_par_iter().map(|i| face_centre_and_area(&mesh.points, mesh.face(i))).unzip();
+        let (cell_centres, cell_volumes) = (0..mesh.n_cells())
+            .into_par_iter()
+            .with_min_len(1024)
+            .map(|c| {
+                let faces = cf.faces(c);
+                let mut est = Vector3::zeros();
+                for (f, _) in faces.clone() {
+                    est += face_centres[f].coords;
+                }
+                est /= faces.len().max(1) as f64;
+                let (mut ctr, mut vol) = (Vector3::zeros(), 0.0);
+                for (f, owned) in faces {
+                    let fc = face_centres[f].coords;
+                    let pyr3 = if owned { face_areas[f].dot(&(fc - est)) } else { face_areas[f].dot(&(est - fc)) };
+                    ctr += pyr3 * (0.75 * fc + 0.25 * est);
+                    vol += pyr3;
+                }
+                let centre = if vol.abs() > VSMALL { Point3::from(ctr / vol) } else { Point3::from(est) };
+                (centre, vol / 3.0)
+            })
+            .unzip();
+        Geometry { face_centres, face_areas, cell_centres, cell_volumes }
+    }
+}
+
+/// The faces of each cell in the order OpenFOAM's cell loops visit them
+/// (`primitiveMeshCellCentresAndVols.C`, `cellClosedness`: over the owner list, then over
+/// the neighbour list): the faces it owns in face order, then those it neighbours. A
+/// counting sort of the owner and neighbour lists.
+pub(crate) struct CellFaces {
+    offsets: Vec<usize>,
+    /// Face index, with [`CellFaces::NEIGHBOUR`] set when the cell is the face's neighbour.
+    faces: Vec<usize>,
+}
+
+impl CellFaces {
+    const NEIGHBOUR: usize = 1 << (usize::BITS - 1);
+
+    fn of(mesh: &PolyMesh) -> CellFaces {
         let nc = mesh.n_cells();
         let (own, nei) = (mesh.owner(), mesh.neighbour());
-        let mut est = vec![Vector3::zeros(); nc];
-        let mut count = vec![0u32; nc];
-        for (i, &c) in own.iter().enumerate() {
-            est[c] += face_centres[i].coords;
-            count[c] += 1;
+        let mut offsets = vec![0usize; nc + 1];
+        for &c in own.iter().chain(nei) {
+            offsets[c + 1] += 1;
         }
-        for (i, &c) in nei.iter().enumerate() {
-            est[c] += face_centres[i].coords;
-            count[c] += 1;
+        for c in 0..nc {
+            offsets[c + 1] += offsets[c];
         }
-        for (e, &k) in est.iter_mut().zip(&count) {
-            *e /= k.max(1) as f64;
+        let mut next = offsets[..nc].to_vec();
+        let mut faces = vec![0usize; offsets[nc]];
+        for (f, &c) in own.iter().enumerate() {
+            faces[next[c]] = f;
+            next[c] += 1;
         }
-        let mut ctr = vec![Vector3::zeros(); nc];
-        let mut vol = vec![0.0; nc];
-        for (i, &c) in own.iter().enumerate() {
-            let pyr3 = face_areas[i].dot(&(face_centres[i].coords - est[c]));
-            let pc = 0.75 * face_centres[i].coords + 0.25 * est[c];
-            ctr[c] += pyr3 * pc;
-            vol[c] += pyr3;
+        for (f, &c) in nei.iter().enumerate() {
+            faces[next[c]] = f | Self::NEIGHBOUR;
+            next[c] += 1;
         }
-        for (i, &c) in nei.iter().enumerate() {
-            let pyr3 = face_areas[i].dot(&(est[c] - face_centres[i].coords));
-            let pc = 0.75 * face_centres[i].coords + 0.25 * est[c];
-            ctr[c] += pyr3 * pc;
-            vol[c] += pyr3;
-        }
-        let cell_centres = (0..nc)
-            .map(|c| if vol[c].abs() > VSMALL { Point3::from(ctr[c] / vol[c]) } else { Point3::from(est[c]) })
-            .collect();
-        let cell_volumes = vol.into_iter().map(|v| v / 3.0).collect();
-        Geometry { face_centres, face_areas, cell_centres, cell_volumes }
+        CellFaces { offsets, faces }
+    }
+
+    /// Cell `c`'s faces: (face, whether `c` owns it).
+    fn faces(&self, c: usize) -> impl ExactSizeIterator<Item = (usize, bool)> + Clone + '_ {
+        self.faces[self.offsets[c]..self.offsets[c + 1]]
+            .iter()
+            .map(|&f| (f & !Self::NEIGHBOUR, f & Self::NEIGHBOUR == 0))
     }
 }
 
@@ -361,8 +400,8 @@ fn coupled(kind: &str) -> bool {
     matches!(kind, "cyclic" | "cyclicAMI" | "cyclicACMI" | "processor" | "processorCyclic" | "cyclicSlip")
 }
 
-/// Faces per task of the face checks: a fixed size, so that sums come out the same for
-/// any number of threads.
+/// Faces (or cells) per task of the checks: a fixed size, so that sums come out the same
+/// for any number of threads.
 const FACE_CHUNK: usize = 16384;
 
 /// What the per-face checks of [`Quality`] gather (each `Worst` keeps the first face
@@ -535,14 +574,18 @@ impl Quality {
     /// # Ok::<(), cadmorph_mesh::Error>(())
     /// ```
     pub fn of(mesh: &PolyMesh) -> Quality {
-        let g = Geometry::of(mesh);
-        Quality::from_geometry(mesh, &g)
+        let cf = CellFaces::of(mesh);
+        let g = Geometry::with_cells(mesh, &cf);
+        Quality::checks(mesh, &g, &cf)
     }
 
     /// Run the checks with a precomputed [`Geometry`].
     pub fn from_geometry(mesh: &PolyMesh, g: &Geometry) -> Quality {
+        Quality::checks(mesh, g, &CellFaces::of(mesh))
+    }
+
+    fn checks(mesh: &PolyMesh, g: &Geometry, cf: &CellFaces) -> Quality {
         let pts = &mesh.points;
-        let (own, nei) = (mesh.owner(), mesh.neighbour());
         let (nf, ni, nc) = (mesh.n_faces(), mesh.n_internal_faces(), mesh.n_cells());
         let mut failed = Vec::new();
 
@@ -581,35 +624,53 @@ impl Quality {
             ));
         }
 
-        // checkClosedCells (cellClosedness).
-        let mut sc = vec![Vector3::zeros(); nc];
-        let mut smc = vec![Vector3::zeros(); nc];
-        for (f, &c) in own.iter().enumerate() {
-            sc[c] += g.face_areas[f];
-            smc[c] += g.face_areas[f].abs();
-        }
-        for (f, &c) in nei.iter().enumerate() {
-            sc[c] -= g.face_areas[f];
-            smc[c] += g.face_areas[f].abs();
-        }
-        let cell_open = (0..nc).map(|c| (0..3).map(|k| sc[c][k].abs() / (smc[c][k] + ROOTVSMALL)).fold(0.0, f64::max));
-        let max_cell_openness = max_by(cell_open);
-        let aspect = (0..nc).map(|c| {
+        // checkClosedCells (cellClosedness): per cell, the sum of its outward face area
+        // vectors against the sum of their magnitudes, and the aspect ratio from them; in
+        // fixed chunks of cells in parallel, folded in cell order.
+        let cell_checks = |c: usize| {
+            let (mut sc, mut smc) = (Vector3::zeros(), Vector3::zeros());
+            for (f, owned) in cf.faces(c) {
+                if owned {
+                    sc += g.face_areas[f];
+                } else {
+                    sc -= g.face_areas[f];
+                }
+                smc += g.face_areas[f].abs();
+            }
+            let open = (0..3).map(|k| sc[k].abs() / (smc[k] + ROOTVSMALL)).fold(0.0, f64::max);
             let (mut lo, mut hi) = (f64::MAX, f64::MIN);
             for k in 0..3 {
                 if dirs[k] == 1 {
-                    lo = lo.min(smc[c][k]);
-                    hi = hi.max(smc[c][k]);
+                    lo = lo.min(smc[k]);
+                    hi = hi.max(smc[k]);
                 }
             }
             let mut ar = hi / (lo + ROOTVSMALL);
             if n_dims == 3 {
                 let v = g.cell_volumes[c].max(ROOTVSMALL);
-                ar = ar.max(smc[c].sum() / 6.0 / v.powf(2.0 / 3.0));
+                ar = ar.max(smc.sum() / 6.0 / v.powf(2.0 / 3.0));
             }
-            ar
-        });
-        let max_aspect_ratio = max_by(aspect);
+            (open, ar)
+        };
+        let chunks: Vec<(Worst, Worst)> = (0..nc.div_ceil(FACE_CHUNK))
+            .into_par_iter()
+            .map(|k| {
+                let lo = Worst { index: 0, value: f64::NEG_INFINITY };
+                let (mut open, mut aspect) = (lo, lo);
+                for c in k * FACE_CHUNK..((k + 1) * FACE_CHUNK).min(nc) {
+                    let (o, a) = cell_checks(c);
+                    higher(&mut open, Worst { index: c, value: o });
+                    higher(&mut aspect, Worst { index: c, value: a });
+                }
+                (open, aspect)
+            })
+            .collect();
+        let lo = Worst { index: 0, value: f64::NEG_INFINITY };
+        let (mut max_cell_openness, mut max_aspect_ratio) = (lo, lo);
+        for (o, a) in chunks {
+            higher(&mut max_cell_openness, o);
+            higher(&mut max_aspect_ratio, a);
+        }
         if max_cell_openness.value > CLOSED_THRESHOLD {
             failed.push(format!(
                 "open cells: max cell openness {:e} at cell {}",

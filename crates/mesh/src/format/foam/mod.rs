@@ -11,7 +11,6 @@ mod points;
 pub use file::Header;
 pub use points::FoamPoints;
 
-use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use nalgebra::Point3;
@@ -100,8 +99,9 @@ impl PolyMesh {
     pub fn read(dir: &Path) -> Result<PolyMesh> {
         let dir =
             if dir.join("constant/polyMesh").is_dir() { dir.join("constant/polyMesh") } else { dir.to_path_buf() };
-        // Every regular file of the directory, read once (in parallel: the four lists are
-        // nearly all of a mesh) and kept as on disk for lossless writing.
+        // Every regular file of the directory is read once and kept as on disk for
+        // lossless writing. The four lists, nearly all of a mesh, are each read and parsed
+        // in one task, the tasks in parallel (one file's parse overlaps another's read).
         let mut paths = Vec::new();
         for e in std::fs::read_dir(&dir).map_err(io(&dir))? {
             let e = e.map_err(io(&dir))?;
@@ -111,52 +111,79 @@ impl PolyMesh {
             }
         }
         paths.sort();
-        let mut files: Vec<(String, Vec<u8>)> =
-            paths.into_par_iter().map(|(n, p)| Ok((n, std::fs::read(&p).map_err(io(&p))?))).collect::<Result<_>>()?;
-        // A plain points file is handed to the points reader, which keeps it as its text
-        // (its entry here stays empty; `to_files` writes it from the reader).
-        let (points_file, points_gz, pp) = match files.iter_mut().find(|(n, _)| n == "points") {
-            Some((_, b)) => (std::mem::take(b), false, dir.join("points")),
-            None => match files.iter().find(|(n, _)| n == "points.gz") {
-                Some((_, b)) => {
-                    let path = dir.join("points.gz");
-                    (file::maybe_gunzip(b.clone(), true).map_err(|e| e.in_file(&path))?, true, path)
-                }
-                None => return Err(missing(&dir, "points")),
-            },
-        };
-        let need = |name: &str| -> Result<(Cow<'_, [u8]>, PathBuf)> {
+        // `name`, else `name.gz`: its file name, path and whether it is gzipped.
+        let locate = |name: &str| -> Result<(String, PathBuf, bool)> {
             let gz = format!("{name}.gz");
-            if let Some((_, b)) = files.iter().find(|(n, _)| n == name) {
-                return Ok((Cow::Borrowed(b.as_slice()), dir.join(name)));
-            }
-            if let Some((_, b)) = files.iter().find(|(n, _)| *n == gz) {
-                let path = dir.join(&gz);
-                let bytes = file::maybe_gunzip(b.clone(), true).map_err(|e| e.in_file(&path))?;
-                return Ok((Cow::Owned(bytes), path));
+            for (want, is_gz) in [(name, false), (gz.as_str(), true)] {
+                if let Some((n, p)) = paths.iter().find(|(n, _)| n == want) {
+                    return Ok((n.clone(), p.clone(), is_gz));
+                }
             }
             Err(missing(&dir, name))
         };
-        let (fb, fp) = need("faces")?;
-        let (ob, op) = need("owner")?;
-        let (nb, np) = need("neighbour")?;
-        let (bb, bp) = need("boundary")?;
-        let patches = read_boundary(&bb).map_err(|e| e.in_file(&bp))?;
-        let ((points, faces), (owner, neighbour)) = rayon::join(
+        // Read a located file: its bytes as on disk, and decompressed when gzipped.
+        let load = |(_, path, gz): &(String, PathBuf, bool)| -> Result<(Vec<u8>, Option<Vec<u8>>)> {
+            let raw = std::fs::read(path).map_err(io(path))?;
+            let plain =
+                if *gz { Some(file::maybe_gunzip(raw.clone(), true).map_err(|e| e.in_file(path))?) } else { None };
+            Ok((raw, plain))
+        };
+        let (lp, lf, lo, ln) = (locate("points")?, locate("faces")?, locate("owner")?, locate("neighbour")?);
+        let (pp, fp, op) = (lp.1.clone(), lf.1.clone(), lo.1.clone());
+        let big = [&lp.0, &lf.0, &lo.0, &ln.0];
+        let ((points, faces), ((owner, neighbour), others)) = rayon::join(
             || {
                 rayon::join(
-                    || FoamPoints::parse_owned(points_file).map_err(|e| e.in_file(&pp)),
-                    || read_faces(&fb, &fp),
+                    // A plain points file is handed to the points reader, which keeps it as
+                    // its text (its entry in `files` stays empty; `to_files` writes it).
+                    || -> Result<_> {
+                        let (raw, plain) = load(&lp)?;
+                        Ok(match plain {
+                            Some(text) => (raw, FoamPoints::parse_owned(text).map_err(|e| e.in_file(&pp))?),
+                            None => (Vec::new(), FoamPoints::parse_owned(raw).map_err(|e| e.in_file(&pp))?),
+                        })
+                    },
+                    || -> Result<_> {
+                        let (raw, plain) = load(&lf)?;
+                        let parsed = read_faces(plain.as_deref().unwrap_or(&raw), &fp)?;
+                        Ok((raw, parsed))
+                    },
                 )
             },
             || {
+                let cells = |l: &(String, PathBuf, bool), what: &'static str| -> Result<_> {
+                    let (raw, plain) = load(l)?;
+                    let parsed = read_cells(plain.as_deref().unwrap_or(&raw), what, &l.1)?;
+                    Ok((raw, parsed))
+                };
                 rayon::join(
-                    || read_cells(&ob, "owner entry of face", &op),
-                    || read_cells(&nb, "neighbour entry of face", &np),
+                    || rayon::join(|| cells(&lo, "owner entry of face"), || cells(&ln, "neighbour entry of face")),
+                    || -> Result<Vec<(String, Vec<u8>)>> {
+                        paths
+                            .par_iter()
+                            .filter(|(n, _)| !big.contains(&n))
+                            .map(|(n, p)| Ok((n.clone(), std::fs::read(p).map_err(io(p))?)))
+                            .collect()
+                    },
                 )
             },
         );
-        let (points, (face_offsets, face_points), (oh, owner), (_, neighbour)) = (points?, faces?, owner?, neighbour?);
+        let ((points_raw, points), (faces_raw, faces)) = (points?, faces?);
+        let ((owner_raw, owner), (neighbour_raw, neighbour)) = (owner?, neighbour?);
+        let mut files = others?;
+        files.extend([(lp.0, points_raw), (lf.0, faces_raw), (lo.0, owner_raw), (ln.0, neighbour_raw)]);
+        files.sort_by(|a, b| a.0.cmp(&b.0));
+        let points_gz = lp.2;
+        let boundary = locate("boundary")?;
+        let patches = match files.iter().find(|(n, _)| *n == boundary.0) {
+            Some((_, b)) if boundary.2 => {
+                read_boundary(&file::maybe_gunzip(b.clone(), true).map_err(|e| e.in_file(&boundary.1))?)
+            }
+            Some((_, b)) => read_boundary(b),
+            None => Err(missing(&dir, "boundary")),
+        }
+        .map_err(|e| e.in_file(&boundary.1))?;
+        let ((face_offsets, face_points), (oh, owner), (_, neighbour)) = (faces, owner, neighbour);
         let np_ = points.points.len();
         if let Some(k) = first_where(&face_points, |v| v >= np_) {
             let face = face_offsets.partition_point(|&o| o <= k).saturating_sub(1);
