@@ -247,31 +247,54 @@ pub(crate) fn label_list(bytes: &[u8]) -> Result<(Header, Vec<i64>)> {
     Ok((h, v))
 }
 
-/// A `labelList` file through the fast path ([`super::fast::labels`]): `None` when it is
-/// not a plain ASCII list of unsigned labels (then [`label_list`] reads it, or names what
-/// is wrong).
+/// A `labelList` file through the fast path ([`super::fast::labels`] for ASCII, a direct
+/// read for binary): `None` when it is not a plain list of non-negative labels (then
+/// [`label_list`] reads it, or names what is wrong).
 pub(crate) fn label_list_fast(bytes: &[u8]) -> Option<(Header, Vec<usize>)> {
     let mut lx = Lexer::new(bytes);
     let h = read_header(&mut lx).ok()?;
-    if h.binary {
-        return None;
-    }
-    let n = lx.count(bytes.len()).ok()?;
-    lx.expect(b'(', "").ok()?;
-    let (v, close) = super::fast::labels(bytes, lx.pos, n)?;
-    lx.pos = close;
-    lx.expect(b')', "").ok()?;
+    let v = fast_labels(&mut lx, &h)?;
     Some((h, v))
 }
 
-/// A `faceList` file through the fast path ([`super::fast::faces`]): CSR offsets and
-/// point labels, or `None` when it is not a plain ASCII face list (then [`face_list`]
-/// reads it, or names what is wrong).
+/// One list of non-negative labels at the lexer, ASCII or binary, through the fast path;
+/// the lexer stands after its `)`.
+fn fast_labels(lx: &mut Lexer<'_>, h: &Header) -> Option<Vec<usize>> {
+    let n = lx.count(lx.bytes.len()).ok()?;
+    lx.expect(b'(', "").ok()?;
+    let v = if h.binary {
+        let w = h.label_bytes;
+        let body = lx.bytes.get(lx.pos..lx.pos.checked_add(n.checked_mul(w)?)?)?;
+        lx.pos += body.len();
+        let v: Vec<i64> = if w == 4 {
+            body.chunks_exact(4).map(|c| i32::from_le_bytes([c[0], c[1], c[2], c[3]]) as i64).collect()
+        } else {
+            body.chunks_exact(8).map(|c| i64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]])).collect()
+        };
+        if v.iter().any(|&x| x < 0) {
+            return None;
+        }
+        v.into_iter().map(|x| x as usize).collect()
+    } else {
+        let (v, close) = super::fast::labels(lx.bytes, lx.pos, n)?;
+        lx.pos = close;
+        v
+    };
+    lx.expect(b')', "").ok()?;
+    Some(v)
+}
+
+/// A `faceList` file through the fast path ([`super::fast::faces`]; a `faceCompactList`
+/// or binary file as its two label lists): CSR offsets and point labels, or `None` when
+/// it is not a plain face list (then [`face_list`] reads it, or names what is wrong).
 pub(crate) fn face_list_fast(bytes: &[u8]) -> Option<(Header, Vec<usize>, Vec<usize>)> {
     let mut lx = Lexer::new(bytes);
     let h = read_header(&mut lx).ok()?;
     if h.binary || h.class == "faceCompactList" {
-        return None;
+        let offsets = fast_labels(&mut lx, &h)?;
+        let points = fast_labels(&mut lx, &h)?;
+        let spans = offsets.first() == Some(&0) && offsets.last() == Some(&points.len());
+        return (spans && offsets.windows(2).all(|w| w[0] <= w[1])).then_some((h, offsets, points));
     }
     let n = lx.count(bytes.len()).ok()?;
     lx.expect(b'(', "").ok()?;
