@@ -14,7 +14,7 @@
 //! (positive weights only; with a weight of zero no bound exists and nothing is done).
 
 use crate::algo::{self, Hom};
-use crate::{Curve, Error, NurbsCurve, Result};
+use crate::{Curve, Error, NurbsCurve, NurbsSurface, Result};
 
 /// What [`NurbsCurve::remove_knots_within`] did.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -106,6 +106,118 @@ pub(crate) fn refine_onto(p: usize, knots: &[f64], pw: &[Hom], target: &[f64]) -
     (refined.len() == target.len()).then_some(qw)
 }
 
+/// Degree reduction by one (the steps of [`NurbsCurve::reduce_degree`]) of curves that
+/// share the clamped knot vector `ks` of degree `p`: the rows of a surface net in one
+/// direction, or a curve alone. The knot copies are removed from all rows at once
+/// (A5.8 on the net), within `tol_h` in homogeneous space. Returns the new knots, the
+/// new rows and the bound of the module docs over all rows, measured against the
+/// original elevated back; [`Error::Tolerance`] when a knot does not go or the bound
+/// exceeds `tol`.
+pub(crate) fn reduce_rows(
+    p: usize,
+    ks: &[f64],
+    rows: &[Vec<Hom>],
+    tol_h: f64,
+    rational: bool,
+    tol: f64,
+) -> Result<(Vec<f64>, Vec<Vec<Hom>>, f64)> {
+    let kv = crate::KnotVector::try_new(ks.to_vec())?;
+    let (values, mults) = kv.distinct();
+    let last = values.len() - 1;
+    let mut x = Vec::new();
+    for (&v, &m) in values[1..last].iter().zip(&mults[1..last]) {
+        x.extend(std::iter::repeat_n(v, p.saturating_sub(m)));
+    }
+    let q = p - 1;
+    let mut knots = Vec::new();
+    let mut reduced_rows = Vec::with_capacity(rows.len());
+    for pw in rows {
+        let (refined, bez) = algo::refine(p, ks, pw, &x);
+        let starts = algo::bezier_starts(p, &refined, &values);
+        knots = vec![values[0]; p];
+        let mut pts: Vec<Hom> = Vec::new();
+        for (i, &first) in starts.iter().enumerate() {
+            let reduced = bezier_reduce(&bez[first..=first + p]);
+            if i == 0 {
+                pts.extend_from_slice(&reduced);
+            } else if mults[i] > p {
+                // A C⁻¹ joint stays one: multiplicity q + 1, the end points apart.
+                knots.extend(std::iter::repeat_n(values[i], p));
+                pts.extend_from_slice(&reduced);
+            } else {
+                knots.extend(std::iter::repeat_n(values[i], q));
+                pts.extend_from_slice(&reduced[1..]);
+            }
+        }
+        knots.extend(std::iter::repeat_n(values[last], p));
+        reduced_rows.push(pts);
+    }
+    for i in 1..last {
+        let m = mults[i];
+        if m >= p {
+            continue;
+        }
+        let need = p - m;
+        let r = knots.partition_point(|&k| k <= values[i]) - 1;
+        let removed = algo::remove_knot(q, &mut knots, &mut reduced_rows, r, q, need, tol_h);
+        if removed < need {
+            return Err(Error::Tolerance { operation: "degree reduction", bound: f64::INFINITY, tol });
+        }
+    }
+    // Elevated back, and knots of multiplicity 1 (which leave the reduced form
+    // entirely) put back: the difference to the original bounds the deviation.
+    let (mut original, mut back_all) = (Vec::new(), Vec::new());
+    for (pw, pts) in rows.iter().zip(&reduced_rows) {
+        let (back_knots, back) = algo::elevate_degree(q, &knots, pts, 1);
+        match refine_onto(p, &back_knots, &back, ks) {
+            Some(b) => back_all.extend(b),
+            None => return Err(Error::Tolerance { operation: "degree reduction", bound: f64::INFINITY, tol }),
+        }
+        original.extend_from_slice(pw);
+    }
+    let bound = deviation_bound(&original, &back_all, rational);
+    if bound.is_nan() || tol.is_nan() || bound > tol {
+        return Err(Error::Tolerance { operation: "degree reduction", bound, tol });
+    }
+    Ok((knots, reduced_rows, bound))
+}
+
+impl NurbsSurface {
+    /// Lowers the u degree by one if the surface moves by at most `tol` (model units),
+    /// and returns a bound on how far it moved: [`NurbsCurve::reduce_degree`] (Piegl &
+    /// Tiller A5.11, §5.6) on every column of the net at once, the knot copies removed
+    /// from all columns together (A5.8 on the net), the bound measured against the
+    /// original as the module docs say (the tensor-product basis is non-negative and sums
+    /// to one). The surface is clamped first.
+    ///
+    /// # Errors
+    ///
+    /// As [`NurbsCurve::reduce_degree`]; the surface is then left as it was.
+    pub fn reduce_u_degree(&mut self, tol: f64) -> Result<f64> {
+        let p = self.u_degree();
+        if p < 2 {
+            return Err(Error::Degree { degree: 0 });
+        }
+        let c = self.clamped();
+        let tol_h = crate::curve::homogeneous_tol(tol, c.control_points(), c.weights());
+        let (knots, cols, bound) = reduce_rows(p, c.u_knots().as_slice(), &c.u_rows(), tol_h, c.is_rational(), tol)?;
+        *self = c.with_u_rows(p - 1, knots, &cols);
+        Ok(bound)
+    }
+
+    /// Lowers the v degree by one; see [`reduce_u_degree`](Self::reduce_u_degree).
+    ///
+    /// # Errors
+    ///
+    /// As [`reduce_u_degree`](Self::reduce_u_degree).
+    pub fn reduce_v_degree(&mut self, tol: f64) -> Result<f64> {
+        let mut t = self.transposed();
+        let bound = t.reduce_u_degree(tol)?;
+        *self = t.transposed();
+        Ok(bound)
+    }
+}
+
 impl NurbsCurve {
     /// Lowers the degree by one if the curve moves by at most `tol` (model units), and
     /// returns a bound on how far it moved. The curve is clamped first (the result is
@@ -131,55 +243,10 @@ impl NurbsCurve {
         let c = self.clamped();
         let rational = c.is_rational();
         let ks = c.knots().as_slice().to_vec();
-        let pw = c.homogeneous();
-        let (values, mults) = c.knots().distinct();
-        let last = values.len() - 1;
-        let mut x = Vec::new();
-        for (&v, &m) in values[1..last].iter().zip(&mults[1..last]) {
-            x.extend(std::iter::repeat_n(v, p.saturating_sub(m)));
-        }
-        let (refined, bez) = algo::refine(p, &ks, &pw, &x);
-        let starts = algo::bezier_starts(p, &refined, &values);
-        let q = p - 1;
-        let mut knots = vec![values[0]; p];
-        let mut pts: Vec<Hom> = Vec::new();
-        for (i, &first) in starts.iter().enumerate() {
-            let reduced = bezier_reduce(&bez[first..=first + p]);
-            if i == 0 {
-                pts.extend_from_slice(&reduced);
-            } else if mults[i] > p {
-                // A C⁻¹ joint stays one: multiplicity q + 1, the end points apart.
-                knots.extend(std::iter::repeat_n(values[i], p));
-                pts.extend_from_slice(&reduced);
-            } else {
-                knots.extend(std::iter::repeat_n(values[i], q));
-                pts.extend_from_slice(&reduced[1..]);
-            }
-        }
-        knots.extend(std::iter::repeat_n(values[last], p));
         let tol_h = crate::curve::homogeneous_tol(tol, c.control_points(), c.weights());
-        let mut rows = vec![pts];
-        for i in 1..last {
-            let m = mults[i];
-            if m >= p {
-                continue;
-            }
-            let need = p - m;
-            let r = knots.partition_point(|&k| k <= values[i]) - 1;
-            let removed = algo::remove_knot(q, &mut knots, &mut rows, r, q, need, tol_h);
-            if removed < need {
-                return Err(Error::Tolerance { operation: "degree reduction", bound: f64::INFINITY, tol });
-            }
-        }
+        let (knots, mut rows, bound) = reduce_rows(p, &ks, &[c.homogeneous()], tol_h, rational, tol)?;
         let pts = rows.pop().expect("one row");
-        let (back_knots, back) = algo::elevate_degree(q, &knots, &pts, 1);
-        // Knots of multiplicity 1 leave the reduced curve entirely; put them back.
-        let bound =
-            refine_onto(p, &back_knots, &back, &ks).map_or(f64::INFINITY, |b| deviation_bound(&pw, &b, rational));
-        if bound.is_nan() || tol.is_nan() || bound > tol {
-            return Err(Error::Tolerance { operation: "degree reduction", bound, tol });
-        }
-        *self = NurbsCurve::from_parts(q, knots, &pts, rational);
+        *self = NurbsCurve::from_parts(p - 1, knots, &pts, rational);
         Ok(bound)
     }
 

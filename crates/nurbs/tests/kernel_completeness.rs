@@ -1,6 +1,7 @@
 //! The kernel operations of issue 21 checked against the existing ones and against
 //! closed forms: knot insertion to multiplicity p + 1 (and splitting there), degree
-//! elevation of periodic splines without clamping, degree reduction, removal of every
+//! elevation of periodic splines without clamping, degree reduction (of curves and of
+//! surfaces in u or v), removal of every
 //! removable knot within a tolerance, and control points at infinity (weight 0).
 
 use cadmorph_nurbs::math::Point3;
@@ -269,6 +270,68 @@ fn periodic_surface_elevation() {
     }
 }
 
+/// Surface points across both domains, knots included.
+fn surface_params(s: &NurbsSurface, n: usize) -> Vec<(f64, f64)> {
+    let (du, dv) = s.domain();
+    let us = params(&du, s.u_knots(), n);
+    let vs = params(&dv, s.v_knots(), n);
+    us.iter().flat_map(|&u| vs.iter().map(move |&v| (u, v))).collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// Surface degree reduction undoes elevation in either direction: same degrees,
+    /// knots and net, a bound at rounding level.
+    #[test]
+    fn surface_reduce_after_elevate_is_identity(s in nurbs_surface(1..=3), t in 1usize..3, in_v in any::<bool>()) {
+        let scale = surface_scale(&s);
+        let mut d = s.clone();
+        if in_v { d.elevate_v_degree(t).unwrap() } else { d.elevate_u_degree(t).unwrap() }
+        for _ in 0..t {
+            let bound = if in_v { d.reduce_v_degree(1e-9 * scale) } else { d.reduce_u_degree(1e-9 * scale) }.unwrap();
+            prop_assert!(bound <= 1e-9 * scale);
+        }
+        prop_assert_eq!((d.u_degree(), d.v_degree()), (s.u_degree(), s.v_degree()));
+        prop_assert_eq!((d.n_u(), d.n_v()), (s.n_u(), s.n_v()));
+        for (a, b) in d.control_points().iter().zip(s.control_points()) {
+            prop_assert!((a - b).norm() <= 1e-8 * scale, "{} vs {}", a, b);
+        }
+        for (u, v) in surface_params(&s, 9) {
+            prop_assert!((d.eval(u, v) - s.eval(u, v)).norm() <= 1e-9 * scale);
+        }
+    }
+
+    /// On surfaces not of lower degree, the reported bound holds at sampled points, and
+    /// a tolerance below it is refused with the surface untouched.
+    #[test]
+    fn surface_reduction_bound_holds(s in nurbs_surface(2..=4), in_v in any::<bool>()) {
+        let mut d = s.clone();
+        let reduced = if in_v { d.reduce_v_degree(1e9) } else { d.reduce_u_degree(1e9) };
+        let bound = match reduced {
+            Ok(bound) => bound,
+            Err(e) => {
+                prop_assert!(s.is_rational(), "{e}");
+                prop_assert!(matches!(e, Error::Tolerance { bound, .. } if bound.is_infinite()), "{e}");
+                prop_assert_eq!(&d, &s);
+                return Ok(());
+            }
+        };
+        let want = if in_v { (s.u_degree(), s.v_degree() - 1) } else { (s.u_degree() - 1, s.v_degree()) };
+        prop_assert_eq!((d.u_degree(), d.v_degree()), want);
+        for (u, v) in surface_params(&s, 17) {
+            let e = (d.eval(u, v) - s.eval(u, v)).norm();
+            prop_assert!(e <= bound * (1.0 + 1e-9) + 1e-12 * surface_scale(&s), "moved {e} > bound {bound} at ({u}, {v})");
+        }
+        if bound > 1e-6 {
+            let mut e = s.clone();
+            let r = if in_v { e.reduce_v_degree(bound * 0.5) } else { e.reduce_u_degree(bound * 0.5) };
+            prop_assert!(matches!(r, Err(Error::Tolerance { .. })), "a tolerance below the bound was accepted");
+            prop_assert_eq!(&e, &s);
+        }
+    }
+}
+
 /// The parabola `(2t, 4t(1 − t))`, a quadratic Bézier on (0,0), (1,2), (2,0), reduced
 /// to the line from (0,0) to (2,0): the true deviation is the height 1 at t = 1/2, the
 /// bound (re-elevated middle point (1,0) against (1,2)) is 2. Below 2 it is refused.
@@ -286,6 +349,33 @@ fn parabola_to_line() {
     assert_eq!(d.control_points(), &[Point3::new(0.0, 0.0, 0.0), Point3::new(2.0, 0.0, 0.0)]);
     let mut line = d.clone();
     assert!(matches!(line.reduce_degree(10.0), Err(Error::Degree { degree: 0 })));
+}
+
+/// The parabola of [`parabola_to_line`] swept along z (quadratic in u, linear in v):
+/// reduced in u it becomes the plane strip between the two lines, with the same bound 2;
+/// below 2 it is refused; in v (already linear) there is nothing to reduce.
+#[test]
+fn parabolic_strip_to_plane() {
+    let ku = KnotVector::clamped_uniform(2, 3);
+    let kv = KnotVector::clamped_uniform(1, 2);
+    let row = [(0.0, 0.0), (1.0, 2.0), (2.0, 0.0)];
+    let pts: Vec<Point3<f64>> =
+        row.iter().flat_map(|&(x, y)| [Point3::new(x, y, 0.0), Point3::new(x, y, 3.0)]).collect();
+    let s = NurbsSurface::try_new((2, 1), (ku, kv), (3, 2), pts, None).unwrap();
+    let mut d = s.clone();
+    assert!(matches!(d.reduce_u_degree(1.5), Err(Error::Tolerance { operation: "degree reduction", .. })));
+    assert_eq!(d, s);
+    let bound = d.reduce_u_degree(2.0).unwrap();
+    assert!((bound - 2.0).abs() < 1e-15);
+    assert_eq!((d.u_degree(), d.v_degree()), (1, 1));
+    let corners = [
+        Point3::new(0.0, 0.0, 0.0),
+        Point3::new(0.0, 0.0, 3.0),
+        Point3::new(2.0, 0.0, 0.0),
+        Point3::new(2.0, 0.0, 3.0),
+    ];
+    assert_eq!(d.control_points(), &corners);
+    assert!(matches!(d.clone().reduce_v_degree(10.0), Err(Error::Degree { degree: 0 })));
 }
 
 /// The full ellipse of semi-axes `a`, `b` from two infinite control points (The NURBS
