@@ -57,6 +57,11 @@ fn faces<D: CadDocument>(m: &Model<D>, tol: f64) -> Result<Faces> {
         // Wireframe (curves outside faces) does not convert yet; refuse rather than drop it.
         return Err(Error::Unsupported("converting curves outside faces (only faces convert yet)"));
     }
+    faces_of(m, tol)
+}
+
+/// [`faces`] without the wireframe check.
+fn faces_of<D: CadDocument>(m: &Model<D>, tol: f64) -> Result<Faces> {
     let side_tol = 1e-6 * m.size().max(f64::MIN_POSITIVE);
     let natural: Vec<bool> =
         m.patches().iter().enumerate().map(|(i, f)| !f.trimmed || is_natural(m, i, side_tol)).collect();
@@ -72,6 +77,46 @@ fn faces<D: CadDocument>(m: &Model<D>, tol: f64) -> Result<Faces> {
         });
     }
     Ok(Faces::Bounded(out, natural))
+}
+
+/// The model's tolerance (the file's own precision, at least 1e-9 of its size), and the
+/// distance within which curve ends are one vertex: ten times that, at least 1e-6 of the
+/// model's size (writers leave gaps of their tolerance at loop joints).
+fn tolerances<D: CadDocument>(m: &Model<D>) -> (f64, f64) {
+    let tol = m.units().uncertainty.unwrap_or(1e-7 * m.size()).max(1e-9 * m.size());
+    (tol, (10.0 * tol).max(1e-6 * m.size()))
+}
+
+/// Every face of a model bounded by its loops, as the converters write them.
+#[derive(Debug, Clone)]
+pub struct BoundedFaces {
+    /// Per face of the model, in its order: the face's surface and loops (its four sides
+    /// when it is its whole surface).
+    pub faces: Vec<BoundedFace>,
+    /// Per face: whether it is its whole surface (its loops are the surface's sides).
+    pub natural: Vec<bool>,
+    /// The distance within which loop curve ends are one vertex, model units.
+    pub join: f64,
+}
+
+/// The faces of `m` with their loops ([`crate::loops`]): what [`convert`] writes, and
+/// what a watertight tessellation takes (`cadmorph_mesh::from_cad`). Curves outside
+/// faces are left out.
+///
+/// # Errors
+///
+/// [`Error::Convert`] for a face whose loops do not close.
+pub fn bounded_faces<D: CadDocument>(m: &Model<D>) -> Result<BoundedFaces> {
+    let (_, join) = tolerances(m);
+    let (faces, natural) = match faces_of(m, join)? {
+        Faces::Natural(s) => {
+            let n = s.len();
+            let f = s.into_iter().zip(m.patches()).map(|(s, f)| BoundedFace::natural(s, f.reversed, join)).collect();
+            (f, vec![true; n])
+        }
+        Faces::Bounded(f, natural) => (f, natural),
+    };
+    Ok(BoundedFaces { faces, natural, join })
 }
 
 /// The IGES unit of `metres` per unit (IGES 5.3 §2.2.4.3, global parameter 14), if
@@ -126,10 +171,7 @@ pub fn convert_with<D: CadDocument>(
     options: &ConvertOptions,
 ) -> Result<Box<dyn CadDocument>> {
     let units = m.units();
-    let tol = units.uncertainty.unwrap_or(1e-7 * m.size()).max(1e-9 * m.size());
-    // Curve ends closer than this are one vertex: the file's own precision, at least
-    // 1e-6 of the model's size (writers leave gaps of their tolerance at loop joints).
-    let join = (10.0 * tol).max(1e-6 * m.size());
+    let (tol, join) = tolerances(m);
     let faces = faces(m, join)?;
     Ok(match format {
         Format::Step => {

@@ -48,7 +48,9 @@ pub use cadmorph_step as step;
 
 pub use cadmorph_brep::{CadDocument, EntityRef, Format};
 pub use cadmorph_model::{Error, Model, Result};
-pub use convert::{convert, convert_with, save_as, save_as_with, ConvertOptions, IgesFaces};
+pub use convert::{
+    bounded_faces, convert, convert_with, save_as, save_as_with, BoundedFaces, ConvertOptions, IgesFaces,
+};
 
 /// The format of `bytes`: STEP when the first non-blank text is the Part 21 header line
 /// `ISO-10303-21` (ISO 10303-21 §5.2), IGES when the first line has 80 columns

@@ -33,13 +33,12 @@ pub(crate) fn bounded_face<D: CadDocument>(m: &Model<D>, i: usize, tol: f64) -> 
     let mut loops = chain(pieces, tol).map_err(fail)?;
     let s = &face.surface;
     let polys: Vec<Vec<(f64, f64)>> = loops.iter().map(|lp| uv_polyline(s, lp, m.size())).collect();
-    if let [poly] = polys.as_slice() {
-        if let Some(b) = iso_box(poly) {
-            // A face bounded by iso-lines only (a plane's rectangle, a cylinder's band
-            // with its seam) is the whole of the surface cut to that box.
-            let sub = sub_surface(s, b).map_err(|e| fail(format!("cutting its surface to its box: {e}")))?;
-            return Ok(BoundedFace::natural(sub, face.reversed, tol));
-        }
+    // A face whose loops all run along the sides of one box in (u, v) (a plane's
+    // rectangle; a cylinder's band with its seam, or in loops that close only across
+    // the seam, as two full circles) is the whole of the surface cut to that box.
+    if let Some(b) = iso_box(&polys.concat()) {
+        let sub = sub_surface(s, b).map_err(|e| fail(format!("cutting its surface to its box: {e}")))?;
+        return Ok(BoundedFace::natural(sub, face.reversed, tol));
     }
     let areas: Vec<f64> = polys.iter().map(|p| signed_area(p)).collect();
     let outer = (0..loops.len()).max_by(|&a, &b| areas[a].abs().total_cmp(&areas[b].abs())).unwrap_or(0);

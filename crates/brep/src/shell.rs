@@ -143,35 +143,47 @@ impl Shell {
         faces: &[BoundedFace],
         size: f64,
     ) -> std::result::Result<Vec<Vec<Vec<NurbsCurve>>>, (usize, cadmorph_nurbs::Error)> {
-        let mut out = Vec::with_capacity(faces.len());
-        for (fi, (f, loops)) in faces.iter().zip(&self.loops).enumerate() {
-            let s = &f.surface;
-            let periods = Periods::of(s, 1e-7 * size);
-            let (du, dv) = s.domain();
-            let box_size = (du.end() - du.start()).hypot(dv.end() - dv.start());
-            let mut face_out = Vec::with_capacity(loops.len());
-            for lp in loops {
-                let mut near = None;
-                let mut curves = Vec::with_capacity(lp.len());
-                for &(e, agrees) in lp {
-                    let c = &self.edges[e].curve;
-                    let mut fitted = Err(cadmorph_nurbs::Error::EmptyDomain { start: 0.0, end: 0.0 });
-                    for tol in PCURVE_TOLS {
-                        fitted = crate::pcurve::pcurve(s, c, !agrees, near, periods, tol * box_size, size);
-                        if fitted.is_ok() {
-                            break;
-                        }
+        (0..faces.len()).map(|fi| self.face_pcurves(faces, fi, size).map_err(|e| (fi, e))).collect()
+    }
+
+    /// The parameter curves of face `fi`'s loops, as [`pcurves`](Self::pcurves) makes
+    /// them.
+    ///
+    /// # Errors
+    ///
+    /// Those of [`pcurve`](crate::pcurve::pcurve) at the last tolerance.
+    pub fn face_pcurves(
+        &self,
+        faces: &[BoundedFace],
+        fi: usize,
+        size: f64,
+    ) -> std::result::Result<Vec<Vec<NurbsCurve>>, cadmorph_nurbs::Error> {
+        let (f, loops) = (&faces[fi], &self.loops[fi]);
+        let s = &f.surface;
+        let periods = Periods::of(s, 1e-7 * size);
+        let (du, dv) = s.domain();
+        let box_size = (du.end() - du.start()).hypot(dv.end() - dv.start());
+        let mut face_out = Vec::with_capacity(loops.len());
+        for lp in loops {
+            let mut near = None;
+            let mut curves = Vec::with_capacity(lp.len());
+            for &(e, agrees) in lp {
+                let c = &self.edges[e].curve;
+                let mut fitted = Err(cadmorph_nurbs::Error::EmptyDomain { start: 0.0, end: 0.0 });
+                for tol in PCURVE_TOLS {
+                    fitted = crate::pcurve::pcurve(s, c, !agrees, near, periods, tol * box_size, size);
+                    if fitted.is_ok() {
+                        break;
                     }
-                    let (pc, end) = fitted.map_err(|err| (fi, err))?;
-                    near = Some(end);
-                    curves.push(pc);
                 }
-                into_domain(&mut curves, periods, (*du.start(), *du.end()), (*dv.start(), *dv.end()));
-                face_out.push(curves);
+                let (pc, end) = fitted?;
+                near = Some(end);
+                curves.push(pc);
             }
-            out.push(face_out);
+            into_domain(&mut curves, periods, (*du.start(), *du.end()), (*dv.start(), *dv.end()));
+            face_out.push(curves);
         }
-        Ok(out)
+        Ok(face_out)
     }
 
     /// Whether every edge is used exactly twice, once in each direction: the faces close

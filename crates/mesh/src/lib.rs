@@ -72,6 +72,7 @@ pub mod cell;
 mod error;
 mod file;
 pub mod format;
+pub mod from_cad;
 mod from_cells;
 pub mod morph;
 mod nodelines;
