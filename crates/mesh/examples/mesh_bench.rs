@@ -5,17 +5,25 @@
 //! mesh_bench quality CASE          PolyMesh::read, then Quality::of (both timed)
 //! mesh_bench readwrite CASE OUT    PolyMesh::read + write of a moved mesh (timed together)
 //! mesh_bench vtu FILE OUT          Vtu read + write of a moved mesh (timed together)
-//! mesh_bench rbf CASE CENTRES      boundary → interior RBF morph of the bump patch,
-//!                                  Wendland C2 with greedy centres (at most CENTRES)
+//! mesh_bench rbf CASE CENTRES [single|multilevel [RATIO]]
+//!                                  boundary → interior RBF morph of the bump patch,
+//!                                  Wendland C2, support 0.6, at most CENTRES centres:
+//!                                  multilevel (default; support halved per level,
+//!                                  RATIO support / centre spacing, default 4) or the
+//!                                  single level with greedy centres
 //! ```
+//!
+//! The rbf line also gives the levels and centres per level, the seconds of the solve
+//! alone, the negative volumes (`Quality::of` after the morph) and the smallest ratio of a
+//! cell's volume after / before (both outside the timing).
 
 use std::path::Path;
 use std::time::Instant;
 
 use cadmorph_mesh::format::foam::PolyMesh;
 use cadmorph_mesh::format::vtu::Vtu;
-use cadmorph_mesh::quality::Quality;
-use cadmorph_mesh::volume::{patch_constraints, BoundaryMorph, PatchMotion};
+use cadmorph_mesh::quality::{Geometry, Quality};
+use cadmorph_mesh::volume::{patch_constraints, BoundaryMorph, Multilevel, PatchMotion};
 use cadmorph_morph::math::{Point3, Vector3};
 use cadmorph_morph::Deformation;
 
@@ -97,9 +105,17 @@ fn main() {
         Some("rbf") => {
             let m = PolyMesh::read(Path::new(arg(2))).unwrap_or_else(|e| fail(&e));
             let max: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(20_000);
+            let multilevel = match args.get(4).map(String::as_str) {
+                None | Some("multilevel") => Some(Multilevel {
+                    ratio: args.get(5).and_then(|s| s.parse().ok()).unwrap_or(Multilevel::default().ratio),
+                    ..Multilevel::default()
+                }),
+                Some("single") => None,
+                Some(other) => fail(&format!("unknown rbf variant {other:?} (single or multilevel)")),
+            };
             let cons = patch_constraints(&m, &[("bump", PatchMotion::Follow(&Lift)), ("sides", PatchMotion::Slip)])
                 .unwrap_or_else(|e| fail(&e));
-            let opts = BoundaryMorph { max_centres: max, ..BoundaryMorph::wendland(0.6) };
+            let opts = BoundaryMorph { max_centres: max, multilevel, ..BoundaryMorph::wendland(0.6) };
             let t = Instant::now();
             let (disp, r) = opts.solve(&m.points, &cons).unwrap_or_else(|e| fail(&e));
             let s = t.elapsed().as_secs_f64();
@@ -108,17 +124,21 @@ fn main() {
                 *p += d;
             }
             let q = Quality::of(&moved);
+            let (v0, v1) = (Geometry::of(&m).cell_volumes, Geometry::of(&moved).cell_volumes);
+            let min_ratio = v0.iter().zip(&v1).map(|(a, b)| b / a).fold(f64::INFINITY, f64::min);
             println!(
-                "{{\"op\":\"rbf\",\"seconds\":{s},\"cells\":{},\"constrained\":{},\"centres\":{},\"rounds\":{},\"max_rel_error\":{},\"negative_volumes\":{},\"peak_mb\":{}}}",
+                "{{\"op\":\"rbf\",\"variant\":\"{}\",\"seconds\":{s},\"cells\":{},\"constrained\":{},\"centres\":{},\"levels\":{},\"level_centres\":{:?},\"max_rel_error\":{},\"negative_volumes\":{},\"min_volume_ratio\":{min_ratio},\"peak_mb\":{}}}",
+                if multilevel.is_some() { "multilevel" } else { "single" },
                 m.n_cells(),
                 r.constrained,
                 r.centres,
                 r.rounds,
+                r.level_centres,
                 r.max_relative_error,
                 q.negative_volumes,
                 peak_mb()
             );
         }
-        _ => fail(&"usage: mesh_bench quality CASE | readwrite CASE OUT | vtu FILE OUT | rbf CASE CENTRES"),
+        _ => fail(&"usage: mesh_bench quality CASE | readwrite CASE OUT | vtu FILE OUT | rbf CASE CENTRES [single|multilevel [RATIO]]"),
     }
 }
