@@ -89,7 +89,10 @@ pub struct BoundaryMorph {
 /// constrained nodes; a later level samples only those within about 2δₖ of a node still
 /// missed by more than the tolerance. The levels stop when every constrained node is
 /// matched to `greedy_tol` × the largest displacement, at `max_levels`, or when the centre
-/// budget `max_centres` is spent (the last level then takes the worst nodes first).
+/// budget `max_centres` is spent (a level that would not fit takes only the nodes
+/// around those missed by more than a threshold raised until it fits). A
+/// level that would not lower the largest miss (one cut short by the budget can spread
+/// more miss around its centres than it removes) is left out, and the levels stop there.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Multilevel {
     /// Support / centre spacing of every level; about `π ratio²` centres lie within a
@@ -360,25 +363,51 @@ impl BoundaryMorph {
         let mut delta = support;
         let mut max_err = 0.0;
         for level in 0..ml.max_levels.max(1) {
-            // Candidates: all nodes on level 0, later those near a node still missed.
-            let mut order: Vec<usize> = if level == 0 {
-                (0..pts.len()).collect()
-            } else {
+            let mag: Vec<f64> = res.iter().map(|r| r.norm()).collect();
+            let h = delta / ml.ratio;
+            let room = budget - used;
+            // The sample of the nodes within about 2δ of a node missed by more than `thr`,
+            // worst first (all nodes on level 0).
+            let sample = |thr: f64, limit: usize| -> Vec<usize> {
                 let inv = 1.0 / delta;
                 let bad: HashSet<[i64; 3]> =
-                    (0..pts.len()).filter(|&i| res[i].norm() > tol).map(|i| cell_of(&pts[i], inv)).collect();
-                (0..pts.len())
+                    (0..pts.len()).filter(|&i| mag[i] > thr).map(|i| cell_of(&pts[i], inv)).collect();
+                let mut order: Vec<usize> = (0..pts.len())
                     .filter(|&i| {
                         let c = cell_of(&pts[i], inv);
                         (-1..=1).any(|dz| {
                             (-1..=1).any(|dy| (-1..=1).any(|dx| bad.contains(&[c[0] + dx, c[1] + dy, c[2] + dz])))
                         })
                     })
-                    .collect()
+                    .collect();
+                order.sort_by(|&a, &b| mag[b].total_cmp(&mag[a]).then(a.cmp(&b)));
+                poisson_disk(&pts, &order, h, limit)
             };
-            let mag: Vec<f64> = res.iter().map(|r| r.norm()).collect();
-            order.sort_by(|&a, &b| mag[b].total_cmp(&mag[a]).then(a.cmp(&b)));
-            let chosen = poisson_disk(&pts, &order, delta / ml.ratio, budget - used);
+            let chosen = if level == 0 {
+                sample(-1.0, room)
+            } else {
+                let full = sample(tol, usize::MAX);
+                if full.len() <= room {
+                    full
+                } else {
+                    // Over budget: raise the threshold (bisection on its logarithm) until
+                    // the sample, with its margin around the missed nodes, fits, rather
+                    // than cutting the sample off.
+                    let (mut lo, mut hi) = (tol.max(1e-300 * dmax).ln(), mag.iter().copied().fold(0.0, f64::max).ln());
+                    let mut best = Vec::new();
+                    for _ in 0..12 {
+                        let mid = 0.5 * (lo + hi);
+                        let c = sample(mid.exp(), usize::MAX);
+                        if c.len() <= room {
+                            hi = mid;
+                            best = c;
+                        } else {
+                            lo = mid;
+                        }
+                    }
+                    best
+                }
+            };
             if chosen.is_empty() {
                 break;
             }
@@ -396,6 +425,12 @@ impl BoundaryMorph {
                 Some(m) => {
                     let s = CompactRbf::try_new(&centres, &values, kernel)?;
                     s.accumulate(&pts, &mut change);
+                    let miss = res.par_iter().zip(&change).map(|(r, c)| (r - c).norm()).reduce(|| 0.0, f64::max);
+                    if miss >= max_err * dmax {
+                        // A level cut short by the budget can spread more miss around
+                        // its centres than it removes: it is left out.
+                        break;
+                    }
                     m.push(s);
                 }
             }
