@@ -19,7 +19,8 @@
 //! ```
 //!
 //! The rbf line also gives the levels and centres per level, the seconds of the solve
-//! alone, the negative volumes (`Quality::of` after the morph) and the smallest ratio of a
+//! alone, the resident memory before it (the mesh and constraints) and the peak right
+//! after it, the peak of the whole run (`peak_mb`), the negative volumes (`Quality::of` after the morph) and the smallest ratio of a
 //! cell's volume after / before (both outside the timing).
 
 use std::path::Path;
@@ -37,6 +38,16 @@ fn peak_mb() -> f64 {
         .ok()
         .and_then(|s| {
             s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+        })
+        .map(|kb| kb / 1024.0)
+        .unwrap_or(0.0)
+}
+
+fn rss_mb() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines().find(|l| l.starts_with("VmRSS:")).and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
         })
         .map(|kb| kb / 1024.0)
         .unwrap_or(0.0)
@@ -134,12 +145,14 @@ fn main() {
             };
             let cons = patch_constraints(&m, &[("bump", PatchMotion::Follow(&Lift)), ("sides", PatchMotion::Slip)])
                 .unwrap_or_else(|e| fail(&e));
+            let rss_before = rss_mb();
             let tol: f64 = args.get(6).and_then(|s| s.parse().ok()).unwrap_or(1e-3);
             let opts =
                 BoundaryMorph { max_centres: max, multilevel, greedy_tol: Some(tol), ..BoundaryMorph::wendland(0.6) };
             let t = Instant::now();
             let (disp, r) = opts.solve(&m.points, &cons).unwrap_or_else(|e| fail(&e));
             let s = t.elapsed().as_secs_f64();
+            let solve_peak = peak_mb();
             let mut moved = m.clone();
             for (p, d) in moved.points.iter_mut().zip(&disp) {
                 *p += d;
@@ -148,7 +161,7 @@ fn main() {
             let (v0, v1) = (Geometry::of(&m).cell_volumes, Geometry::of(&moved).cell_volumes);
             let min_ratio = v0.iter().zip(&v1).map(|(a, b)| b / a).fold(f64::INFINITY, f64::min);
             println!(
-                "{{\"op\":\"rbf\",\"variant\":\"{}\",\"seconds\":{s},\"cells\":{},\"constrained\":{},\"centres\":{},\"levels\":{},\"level_centres\":{:?},\"max_rel_error\":{},\"negative_volumes\":{},\"min_volume_ratio\":{min_ratio},\"peak_mb\":{}}}",
+                "{{\"op\":\"rbf\",\"variant\":\"{}\",\"seconds\":{s},\"cells\":{},\"constrained\":{},\"centres\":{},\"levels\":{},\"level_centres\":{:?},\"max_rel_error\":{},\"negative_volumes\":{},\"min_volume_ratio\":{min_ratio},\"rss_before_mb\":{rss_before},\"solve_peak_mb\":{solve_peak},\"peak_mb\":{}}}",
                 if multilevel.is_some() { "multilevel" } else { "single" },
                 m.n_cells(),
                 r.constrained,
