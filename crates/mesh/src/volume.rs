@@ -20,10 +20,12 @@
 //! constrained nodes, each next level interpolates the remaining miss with half the
 //! support on a sample twice as fine, taken where the miss is largest (see
 //! [`Multilevel`]). Every level's matrix then has a bounded number of entries per row, so
-//! a 10⁶-cell mesh with 20 000 centres morphs in seconds where the single level with a
-//! large support has dense rows (about 1 600 centres per support on the channel of
-//! `benches/mesh`) and did not finish in half an hour. Measured figures:
-//! `benches/mesh/README.md`.
+//! a 10⁶-cell mesh morphs in about a second where the single level with a large support
+//! has dense rows (about 1 600 centres per support on the channel of `benches/mesh`) and
+//! did not finish in half an hour: on that channel (10⁶ hexahedra, 40 400 constrained
+//! nodes, budget 20 000), 8 327 centres in 6 levels match every constrained node to 1e-3
+//! of the largest displacement, solve median 1.03 s over 5 runs on 2 cores, 835 MB peak,
+//! no inverted cell. Measured figures and commands: `benches/mesh/README.md`.
 
 use nalgebra::{Point3, Unit, Vector3};
 use rayon::prelude::*;
@@ -79,7 +81,7 @@ pub struct BoundaryMorph {
     pub multilevel: Option<Multilevel>,
 }
 
-/// Options of the multilevel interpolation (Floater & Iske 1996, §3: the support of each
+/// Options of the multilevel interpolation (Floater & Iske 1996: the support of each
 /// level a fixed multiple of its centre spacing, halved from level to level).
 ///
 /// Level k has support `δₖ = δ₀ / 2ᵏ` (δ₀ the kernel's support) and centres at least

@@ -1,7 +1,7 @@
 //! Multilevel interpolation with compactly supported radial basis functions (Floater &
 //! Iske, "Multistep scattered data interpolation using compactly supported radial basis
-//! functions", J. Comput. Appl. Math. 73 (1996); Wendland, "Scattered Data
-//! Approximation", Cambridge 2005, §15.4 "multiscale" interpolation).
+//! functions", J. Comput. Appl. Math. 73 (1996); the same scheme is Wendland's
+//! multiscale interpolation, "Scattered Data Approximation", Cambridge 2005).
 //!
 //! Level 0 is an ordinary [`Rbf`] (kernel and linear term) on a coarse set of centres
 //! with a large support. Each next level interpolates what the levels before it miss, the
@@ -32,7 +32,8 @@ const CHUNK: usize = 512;
 
 /// A pure kernel sum `s(x) = Σᵢ γᵢ φ(‖x − cᵢ‖)` with a compactly supported, positive
 /// definite kernel (the Wendland family), interpolating values `s(cᵢ) = fᵢ`: one level of
-/// a [`MultilevelRbf`] (Floater & Iske 1996, eq. (2.1) without the polynomial part).
+/// a [`MultilevelRbf`] (Floater & Iske 1996: the interpolant of one step, without the
+/// polynomial part).
 ///
 /// The system `Φγ = f` (Φ symmetric positive definite for distinct centres, Wendland
 /// 1995) is solved by Jacobi-preconditioned conjugate gradients on the sparse matrix
@@ -248,8 +249,8 @@ impl Deformation for CompactRbf {
 }
 
 /// A multilevel RBF: a base [`Rbf`] (level 0) plus [`CompactRbf`] corrections, each
-/// interpolating the residual of the levels before it (Floater & Iske 1996, §2;
-/// see the [module documentation](self) for the formulas).
+/// interpolating the residual of the levels before it (Floater & Iske 1996; see the
+/// [module documentation](self) for the formulas).
 ///
 /// It is a [`Deformation`]: `φ(x) = x + s₀(x) + Σₖ sₖ(x)`, every level evaluated at the
 /// original `x`. With no correction level it is exactly its base `Rbf`.
