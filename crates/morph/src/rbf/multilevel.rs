@@ -249,8 +249,21 @@ impl Deformation for CompactRbf {
 }
 
 /// A multilevel RBF: a base [`Rbf`] (level 0) plus [`CompactRbf`] corrections, each
-/// interpolating the residual of the levels before it (Floater & Iske 1996; see the
-/// [module documentation](self) for the formulas).
+/// interpolating the residual of the levels before it (Floater & Iske, "Multistep
+/// scattered data interpolation using compactly supported radial basis functions",
+/// J. Comput. Appl. Math. 73 (1996); Wendland's multiscale interpolation):
+///
+/// ```text
+/// s₀ = Rbf interpolant of f on X₀,     rₖ = f − (s₀ + … + sₖ₋₁),
+/// sₖ(x) = Σ_{c ∈ Xₖ} γ_c φ(‖x − c‖ / δₖ),    sₖ(c) = rₖ(c) for c ∈ Xₖ   (k ≥ 1),
+/// φ(x) = x + s₀(x) + s₁(x) + … + s_L(x).
+/// ```
+///
+/// The corrections have no polynomial term, so that a local correction does not leak a
+/// linear function over the whole domain. With the support `δₖ` a fixed multiple of the
+/// centre spacing of `Xₖ`, every level's matrix has a bounded number of entries per row
+/// (Floater & Iske's stationary choice). The caller picks the centre sets and measures
+/// the residual after each level (the mesh crate's `BoundaryMorph::multilevel`).
 ///
 /// It is a [`Deformation`]: `φ(x) = x + s₀(x) + Σₖ sₖ(x)`, every level evaluated at the
 /// original `x`. With no correction level it is exactly its base `Rbf`.
