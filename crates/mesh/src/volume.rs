@@ -95,6 +95,8 @@ pub struct BoundaryMorph {
 /// around those missed by more than a threshold raised until it fits). A
 /// level that would not lower the largest miss (one cut short by the budget can spread
 /// more miss around its centres than it removes) is left out, and the levels stop there.
+/// With the environment variable `CADMORPH_LEVEL_TRACE` set, each level's support,
+/// centres and largest miss (and where) are printed to stderr.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Multilevel {
     /// Support / centre spacing of every level; about `π ratio²` centres lie within a
@@ -363,6 +365,7 @@ impl BoundaryMorph {
         let mut level_centres = Vec::new();
         let mut interp: Option<MultilevelRbf> = None;
         let mut delta = support;
+        let trace = std::env::var_os("CADMORPH_LEVEL_TRACE").is_some();
         let mut max_err = 0.0;
         for level in 0..ml.max_levels.max(1) {
             let mag: Vec<f64> = res.iter().map(|r| r.norm()).collect();
@@ -441,6 +444,14 @@ impl BoundaryMorph {
             level_centres.push(chosen.len());
             let miss = res.iter().map(|r| r.norm()).fold(0.0, f64::max);
             max_err = if dmax > 0.0 { miss / dmax } else { 0.0 };
+            if trace {
+                let w = (0..pts.len()).max_by(|&a, &b| res[a].norm().total_cmp(&res[b].norm())).unwrap_or(0);
+                eprintln!(
+                    "level {level}: support {delta}, {} centres, largest miss {max_err:.3e} at {:?}",
+                    chosen.len(),
+                    pts[w].coords.as_slice()
+                );
+            }
             if miss <= tol || used >= budget {
                 break;
             }
