@@ -3,7 +3,8 @@
 #   * cadmorph's quality check against OpenFOAM's checkMesh on the same blockMesh case;
 #   * polyMesh read + write (cadmorph) and VTU read + write (cadmorph and meshio) of the
 #     same mesh (meshio has no OpenFOAM reader, so it is timed on foamToVTK's .vtu);
-#   * the RBF boundary → interior morph with at most CENTRES Wendland centres.
+#   * the RBF boundary → interior morph (multilevel Wendland C², support 0.6 on level 0,
+#     at most CENTRES centres over all levels), R times, with wall time and peak memory.
 #
 #   bash benches/mesh/run.sh [--cells N] [--rounds R] [--centres C]
 #
@@ -99,5 +100,13 @@ if [ -n "$vtu" ]; then
     echo "meshio VTU read+write           : $(stats "${mrw[@]}")"
     echo "  ratio meshio / cadmorph VTU (median): $(ratio ${#mrw[@]} "${mrw[@]}" "${vrw[@]}")x"
 fi
-[ "${SKIP_RBF:-}" ] || /usr/bin/time -v "$bench" rbf "$case" "$centres" 2> "$work/time.rbf" | sed 's/^/RBF volume morph: /'
-grep -E "Maximum resident|Elapsed" "$work/time.rbf" | sed 's/^/  /'
+if [ -z "${SKIP_RBF:-}" ]; then
+    declare -a rbf
+    for r in $(seq 1 "$rounds"); do
+        /usr/bin/time -v "$bench" rbf "$case" "$centres" 2> "$work/time.rbf" > "$work/rbf.json"
+        sed 's/^/RBF volume morph: /' "$work/rbf.json"
+        grep -E "Maximum resident|Elapsed" "$work/time.rbf" | sed 's/^/  /'
+        rbf+=("$(sed 's/.*"seconds":\([0-9.e-]*\).*/\1/' "$work/rbf.json")")
+    done
+    echo "cadmorph RBF volume morph (solve): $(stats "${rbf[@]}")"
+fi

@@ -233,6 +233,7 @@ fn rbf_volume_morph_of_a_gmsh_tet_mesh() {
             greedy_tol: None,
             initial_centres: 0,
             max_centres: usize::MAX,
+            multilevel: None,
         },
     ] {
         let mut m: PolyMesh = mesh.clone();

@@ -305,6 +305,45 @@ fn rbf_volume_morph_of_the_bump_passes_checkmesh() {
     let _ = std::fs::remove_dir_all(case);
 }
 
+/// The same boundary → interior morph with the multilevel interpolation
+/// (`BoundaryMorph::wendland_multilevel`): every constrained node where it was sent, the
+/// written mesh passes checkMesh and checkMesh agrees with cadmorph.
+#[test]
+#[ignore = "needs OpenFOAM (tests/mesh/setup.sh)"]
+fn multilevel_rbf_volume_morph_passes_checkmesh() {
+    use cadmorph_mesh::volume::{morph_volume, patch_constraints, BoundaryMorph, Constraint, PatchMotion};
+    use cadmorph_morph::Deformation;
+    let case = temp("volume-multilevel");
+    make_case(&case);
+    let mut mesh = PolyMesh::read(&case).unwrap();
+    let original = mesh.points.clone();
+    let ffd = lift_ffd(0.15);
+    let cons = patch_constraints(
+        &mesh,
+        &[("bump", PatchMotion::Follow(&ffd)), ("top", PatchMotion::Fixed), ("sides", PatchMotion::Slip)],
+    )
+    .unwrap();
+    let (report, br) = morph_volume(&mut mesh, &cons, &BoundaryMorph::wendland_multilevel(1.5), false).unwrap();
+    eprintln!(
+        "multilevel volume morph: {} constrained nodes, {} centres in levels {:?}, max miss {:e}",
+        br.constrained, br.centres, br.level_centres, br.max_relative_error
+    );
+    assert!(br.max_relative_error <= 1e-3);
+    assert!(report.after.ok(), "{}", report.after.table());
+    for (i, c) in cons.iter().enumerate() {
+        match c {
+            Constraint::Moved(_) => assert!((mesh.points[i] - ffd.deform_point(&original[i])).norm() < 1e-12),
+            Constraint::Fixed => assert_eq!(mesh.points[i], original[i]),
+            Constraint::Slip(n) => assert!((mesh.points[i] - original[i]).dot(n).abs() < 1e-12),
+            Constraint::Free => {}
+        }
+    }
+    mesh.write(&case.join("constant/polyMesh")).unwrap();
+    let q = compare(&case, "after multilevel RBF volume morph");
+    assert_eq!(q.negative_volumes, 0);
+    let _ = std::fs::remove_dir_all(case);
+}
+
 /// OpenFOAM's own VTK XML writer (`foamToVTK`: single-quoted attributes, inline base64,
 /// `UInt64` headers, Float32 points) read by cadmorph: the same points as the polyMesh (to
 /// f32) and one hexahedron per cell; a morph written back is read again exactly.

@@ -278,6 +278,28 @@ impl Kernel {
         }
     }
 
+    /// The same kernel with scaling (or support) radius `radius` (the power k kept): the
+    /// multilevel interpolation halves the support from level to level.
+    ///
+    /// ```
+    /// use cadmorph_morph::rbf::Kernel;
+    /// let k = Kernel::WendlandC2 { support: 0.6 }.with_radius(0.3);
+    /// assert_eq!(k, Kernel::WendlandC2 { support: 0.3 });
+    /// ```
+    pub fn with_radius(&self, radius: f64) -> Kernel {
+        match *self {
+            Kernel::Gaussian { .. } => Kernel::Gaussian { radius },
+            Kernel::MultiQuadratic { .. } => Kernel::MultiQuadratic { radius },
+            Kernel::InverseMultiQuadratic { .. } => Kernel::InverseMultiQuadratic { radius },
+            Kernel::ThinPlate { k, .. } => Kernel::ThinPlate { radius, k },
+            Kernel::BeckertWendlandC2 { .. } => Kernel::BeckertWendlandC2 { radius },
+            Kernel::Polyharmonic { k, .. } => Kernel::Polyharmonic { radius, k },
+            Kernel::WendlandC0 { .. } => Kernel::WendlandC0 { support: radius },
+            Kernel::WendlandC2 { .. } => Kernel::WendlandC2 { support: radius },
+            Kernel::WendlandC4 { .. } => Kernel::WendlandC4 { support: radius },
+        }
+    }
+
     /// Whether `x ↦ φ(‖x − c‖)` is differentiable at the centre `x = c`, i.e. φ'(0) = 0.
     pub fn smooth_at_centre(&self) -> bool {
         match *self {

@@ -6,8 +6,10 @@ mod condition;
 mod eval;
 mod grid;
 mod kernel;
+mod multilevel;
 
 pub use kernel::{Kernel, DEFAULT_K};
+pub use multilevel::{CompactRbf, MultilevelRbf};
 
 use faer::linalg::solvers::{Lblt, Solve};
 use faer::sparse::{SparseColMat, Triplet};
@@ -520,43 +522,7 @@ impl Rbf {
     fn factor_iterative(&self) -> Result<(System, f64)> {
         let n = self.centres.len();
         let grid = self.grid.as_ref().expect("compact kernels have a grid");
-        let s2 = self.kernel.support().expect("compact kernel").powi(2);
-        let kernel = self.kernel;
-        // Φ in the grid's order (neighbouring centres close in memory), both triangles.
-        const BLOCK: usize = 1024;
-        let blocks: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(BLOCK))
-            .into_par_iter()
-            .map(|b| {
-                let (mut lens, mut col, mut val) = (Vec::with_capacity(BLOCK), Vec::new(), Vec::new());
-                for i in b * BLOCK..((b + 1) * BLOCK).min(n) {
-                    let before = col.len();
-                    let (x, y, z) = (grid.x[i], grid.y[i], grid.z[i]);
-                    grid.for_each_range([x, y, z], |r| {
-                        for j in r {
-                            let (u, v, w) = (x - grid.x[j], y - grid.y[j], z - grid.z[j]);
-                            let r2 = u * u + v * v + w * w;
-                            if r2 < s2 {
-                                col.push(j as u32);
-                                val.push(kernel.eval(r2.sqrt()));
-                            }
-                        }
-                    });
-                    lens.push(col.len() - before);
-                }
-                (lens, col, val)
-            })
-            .collect();
-        let nnz = blocks.iter().map(|b| b.1.len()).sum();
-        let mut phi =
-            cg::Csr { row_ptr: Vec::with_capacity(n + 1), col: Vec::with_capacity(nnz), val: Vec::with_capacity(nnz) };
-        phi.row_ptr.push(0);
-        for (lens, col, val) in blocks {
-            for l in lens {
-                phi.row_ptr.push(phi.row_ptr.last().copied().unwrap_or(0) + l);
-            }
-            phi.col.extend_from_slice(&col);
-            phi.val.extend_from_slice(&val);
-        }
+        let phi = assemble_csr(grid, self.kernel);
         // One CG run for Φ⁻¹[f P]: columns 0..3 the displacements, 3..7 the polynomial basis.
         let mut b: Vec<[f64; cg::W]> = grid
             .perm
@@ -1011,6 +977,48 @@ impl Householder4 {
         }
         x
     }
+}
+
+/// Φ of a compactly supported kernel in the grid's sorted order (neighbouring centres close
+/// in memory), both triangles, rows assembled in parallel blocks.
+fn assemble_csr(grid: &Grid, kernel: Kernel) -> cg::Csr {
+    let n = grid.x.len();
+    let s2 = kernel.support().expect("compact kernel").powi(2);
+    const BLOCK: usize = 1024;
+    let blocks: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(BLOCK))
+        .into_par_iter()
+        .map(|b| {
+            let (mut lens, mut col, mut val) = (Vec::with_capacity(BLOCK), Vec::new(), Vec::new());
+            for i in b * BLOCK..((b + 1) * BLOCK).min(n) {
+                let before = col.len();
+                let (x, y, z) = (grid.x[i], grid.y[i], grid.z[i]);
+                grid.for_each_range([x, y, z], |r| {
+                    for j in r {
+                        let (u, v, w) = (x - grid.x[j], y - grid.y[j], z - grid.z[j]);
+                        let r2 = u * u + v * v + w * w;
+                        if r2 < s2 {
+                            col.push(j as u32);
+                            val.push(kernel.eval(r2.sqrt()));
+                        }
+                    }
+                });
+                lens.push(col.len() - before);
+            }
+            (lens, col, val)
+        })
+        .collect();
+    let nnz = blocks.iter().map(|b| b.1.len()).sum();
+    let mut phi =
+        cg::Csr { row_ptr: Vec::with_capacity(n + 1), col: Vec::with_capacity(nnz), val: Vec::with_capacity(nnz) };
+    phi.row_ptr.push(0);
+    for (lens, col, val) in blocks {
+        for l in lens {
+            phi.row_ptr.push(phi.row_ptr.last().copied().unwrap_or(0) + l);
+        }
+        phi.col.extend_from_slice(&col);
+        phi.val.extend_from_slice(&val);
+    }
+    phi
 }
 
 /// Iteration limit of the conjugate gradients for `n` centres.
