@@ -136,7 +136,11 @@ fn from_cad_meshes_are_watertight_and_on_the_cad() {
             // rounding); centroids lie within the chordal tolerance.
             let limit = if what == "vertices" { 1e-9 * r["size"].as_f64().unwrap() } else { chord };
             eprintln!("{name}: {} {what}: OCCT distance to the model ≤ {d:e} (limit {limit:e})", pts.len());
-            assert!(d <= limit * (1.0 + 1e-9), "{name}: {what} off the CAD by {d:e} > {limit:e} (point {})", r["worst"]);
+            assert!(
+                d <= limit * (1.0 + 1e-9),
+                "{name}: {what} off the CAD by {d:e} > {limit:e} (point {})",
+                r["worst"]
+            );
         }
     }
 }

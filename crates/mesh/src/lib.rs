@@ -37,7 +37,9 @@
 //! agreeing to 1e-13 relative on the test meshes); [`volume`] carries a boundary
 //! displacement into the interior with a Wendland RBF and greedy centre selection;
 //! [`tessellate`] turns NURBS faces and their shared sides into a watertight triangle
-//! mesh (written as an STL with one solid per face, [`format::stl::Stl::from_triangles`]).
+//! mesh (written as an STL with one solid per face, [`format::stl::Stl::from_triangles`]);
+//! [`from_cad`] does the same for trimmed faces of any IGES or STEP model (shared edges
+//! sampled once, a constrained Delaunay triangulation per face in its parameters).
 //!
 //! # Crates measured
 //!
@@ -53,9 +55,14 @@
 //!   of revision 4.1 is supported") and has no writer. Skipped.
 //! * No crate reads OpenFOAM polyMesh, UNV, LS-DYNA, Kratos or Elmer files.
 //!
-//! Used: `flate2` (gzip for OpenFOAM, zlib for VTU) and `base64` (VTU). The independent
-//! readers of the tests are Python `meshio` and `gmsh` and OpenFOAM itself
-//! (`tests/mesh/setup.sh`).
+//! Used: `flate2` (gzip for OpenFOAM, zlib for VTU), `base64` (VTU), `memchr` (line
+//! starts of the parallel polyMesh reader), `fast-float2` (its numbers: the same correctly
+//! rounded results as `str::parse`, on bytes, about twice as fast on OpenFOAM's 17-digit
+//! coordinates) and `spade` (constrained Delaunay triangulation for [`from_cad`]). The
+//! independent readers of the tests are Python `meshio`, `gmsh` (also UNV), Ansys PyDyna's
+//! keyword deck (LS-DYNA `.k`) and OpenFOAM itself (`tests/mesh/setup.sh`); no
+//! installable program or package reads Elmer's `mesh.nodes` here (ElmerGrid is not in
+//! Debian or on PyPI), so Elmer files are checked against PyGeM's expected outputs only.
 //!
 //! ```
 //! use cadmorph_mesh::format::elmer::ElmerNodes;
