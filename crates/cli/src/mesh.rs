@@ -45,7 +45,8 @@ pub enum MeshCommand {
     /// Tessellate every face of an IGES or STEP model, trims included, into one
     /// watertight triangle mesh: shared edges sampled once, so no vertex is duplicated
     /// and none lies inside another face's edge (what snappyHexMesh wants). STL output
-    /// has one solid per face, OBJ one group per face, named by the face's entity.
+    /// has one solid per face, OBJ one group per face, named by the face's index and
+    /// entity (`face3_DE123`, `face3_531` for STEP #531).
     FromCad {
         /// The IGES or STEP model.
         input: PathBuf,
@@ -121,7 +122,16 @@ fn from_cad(input: &Path, output: &Path, tol: Option<f64>, angle: f64, json: boo
     let faces = cadmorph::bounded_faces(&m)?;
     let w = tessellate_faces(&faces.faces, &faces.natural, faces.join, size, MeshTolerance { chord, angle_deg: angle })
         .with_context(|| format!("tessellating {}", input.display()))?;
-    let names: Vec<String> = m.patches().iter().enumerate().map(|(i, f)| crate::faces::label(i, &f.entity)).collect();
+    // Region names OpenFOAM takes as words (snappyHexMesh names its patches after them):
+    // `face3_DE123` (IGES), `face3_531` (STEP #531).
+    let names: Vec<String> = m
+        .patches()
+        .iter()
+        .enumerate()
+        .map(|(i, f)| {
+            format!("face{i}_{}", f.entity.to_string().chars().filter(char::is_ascii_alphanumeric).collect::<String>())
+        })
+        .collect();
     let bytes = if obj { to_obj(&w, &names) } else { to_stl(&w, &names)? };
     write_atomic(output, &bytes).with_context(|| format!("writing {}", output.display()))?;
     // Mesh edges with one triangle: the open borders of the model.
