@@ -4,8 +4,8 @@
 //! the STL holds them) and by meshio: every edge has two triangles on the closed models,
 //! one or two on the open hull; OpenCASCADE measures every vertex on the CAD faces and
 //! every triangle centroid within the chordal tolerance of them; OpenFOAM's
-//! `surfaceCheck` finds the trimmed solid closed, one region per face, with no illegal
-//! triangle, and the open hull with none either.
+//! `surfaceCheck` finds no illegal triangle, one region per face and one consistently
+//! oriented zone, and the solids closed with their normals out.
 //!
 //! `#[ignore]`d in a plain `cargo test`; `scripts/test` runs it with the OCCT and mesh
 //! venvs set up.
@@ -101,19 +101,29 @@ fn from_cad_meshes_are_watertight_and_on_the_cad() {
             assert!(border > 0, "{name}: the open hull has no border");
         }
         assert_eq!(border as u64, report["border_edges"].as_u64().unwrap());
-        // OpenFOAM's own surface check (the sliver-free cases: the blade's trailing edge
-        // still gives triangles it calls illegal).
-        if !name.starts_with("blade") {
-            let cmd =
-                format!("source /usr/share/openfoam/etc/bashrc >/dev/null 2>&1; surfaceCheck '{}'", stl.display());
-            let out = Command::new("bash").args(["-c", &cmd]).output().unwrap();
-            let log = String::from_utf8_lossy(&out.stdout);
-            assert!(log.contains("Surface has no illegal triangles."), "{name}: surfaceCheck\n{log}");
-            let regions = format!("in {} region(s)", report["faces"].as_u64().unwrap());
-            assert!(log.contains(&regions), "{name}: surfaceCheck regions\n{log}");
-            if closed {
-                assert!(log.contains("Surface is closed. All edges connected to two faces."), "{name}:\n{log}");
-            }
+        // OpenFOAM's own surface check: no illegal triangle, a region per face, one
+        // consistently oriented zone, closed where the model is.
+        let cmd = format!("source /usr/share/openfoam/etc/bashrc >/dev/null 2>&1; surfaceCheck '{}'", stl.display());
+        let out = Command::new("bash").args(["-c", &cmd]).output().unwrap();
+        let log = String::from_utf8_lossy(&out.stdout);
+        assert!(log.contains("Surface has no illegal triangles."), "{name}: surfaceCheck\n{log}");
+        let regions = format!("in {} region(s)", report["faces"].as_u64().unwrap());
+        assert!(log.contains(&regions), "{name}: surfaceCheck regions\n{log}");
+        assert!(log.contains("consistent normal) : 1"), "{name}: surfaceCheck zones\n{log}");
+        if closed {
+            assert!(log.contains("Surface is closed. All edges connected to two faces."), "{name}:\n{log}");
+            // Normals out: the divergence theorem gives a positive volume.
+            let volume: f64 = back
+                .triangles
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = t.map(|i| back.points[i]);
+                    (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                        + a[2] * (b[0] * c[1] - b[1] * c[0]))
+                        / 6.0
+                })
+                .sum();
+            assert!(volume > 0.0, "{name}: normals point in (volume {volume})");
         }
         // meshio reads the same mesh.
         let m = python(

@@ -20,8 +20,10 @@
 //!
 //! No edge vertex is duplicated and none lies inside another face's edge (both faces
 //! use the same samples), so on a closed model every mesh edge has exactly two
-//! triangles, one on open borders. Triangles run counterclockwise around the face's
-//! outward normal (`S_u × S_v`, reversed for a reversed face). `spade` is used because
+//! triangles, one on open borders. Vertices closer than 1e-7 of the model's size (what
+//! single-precision STL cannot tell apart) are made one. Triangles run counterclockwise
+//! around the face normal (`S_u × S_v`, reversed for a reversed face), each closed piece
+//! turned to point out first ([`cadmorph_brep::orient_outward`]). `spade` is used because
 //! it is the maintained pure-Rust constrained Delaunay triangulation.
 
 use std::collections::HashMap;
@@ -156,6 +158,11 @@ pub fn tessellate_faces(
             tol.chord, tol.angle_deg
         )));
     }
+    // Each closed piece turned outward ([`cadmorph_brep::orient_outward`]): IGES faces
+    // outside a B-rep carry no orientation, and a mesher wants the normals consistent.
+    let mut oriented = faces.to_vec();
+    cadmorph_brep::orient_outward(&mut oriented, join);
+    let faces = oriented.as_slice();
     let shell = Shell::from_faces(faces, join);
     let mut points = shell.vertices.clone();
     // Each edge sampled once: parameters and vertex ids (its end vertices at the ends).
@@ -179,7 +186,63 @@ pub fn tessellate_faces(
         face_of.extend(std::iter::repeat_n(fi, tris.len()));
         triangles.extend(tris);
     }
-    Ok(Watertight { points, triangles, face_of })
+    Ok(weld(Watertight { points, triangles, face_of }, 1e-7 * size))
+}
+
+/// Vertices closer than `eps` made one (the first of them), the triangles that then
+/// have a repeated vertex dropped (an edge collapse, which keeps every other edge's two
+/// triangles), unused vertices removed. STL holds single-precision coordinates: points
+/// closer than about 1e-7 of the model's size become one point in every reader, and a
+/// triangle between them a degenerate one (OpenFOAM's `surfaceCheck` calls it illegal). A
+/// thin trailing edge leaves such pairs of bound samples.
+fn weld(w: Watertight, eps: f64) -> Watertight {
+    if eps.is_nan() || eps <= 0.0 {
+        return w;
+    }
+    let key = |p: &Point3<f64>| [(p.x / eps).floor() as i64, (p.y / eps).floor() as i64, (p.z / eps).floor() as i64];
+    let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+    let mut to: Vec<usize> = (0..w.points.len()).collect();
+    for (i, p) in w.points.iter().enumerate() {
+        let k = key(p);
+        let mut found = None;
+        'search: for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    if let Some(list) = grid.get(&[k[0] + dx, k[1] + dy, k[2] + dz]) {
+                        if let Some(&j) = list.iter().find(|&&j| (w.points[j] - p).norm() < eps) {
+                            found = Some(j);
+                            break 'search;
+                        }
+                    }
+                }
+            }
+        }
+        match found {
+            Some(j) => to[i] = j,
+            None => grid.entry(k).or_default().push(i),
+        }
+    }
+    let mut triangles = Vec::with_capacity(w.triangles.len());
+    let mut face_of = Vec::with_capacity(w.triangles.len());
+    for (t, &f) in w.triangles.iter().zip(&w.face_of) {
+        let t = t.map(|i| to[i]);
+        if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
+            triangles.push(t);
+            face_of.push(f);
+        }
+    }
+    let mut index = vec![usize::MAX; w.points.len()];
+    let mut points = Vec::with_capacity(w.points.len());
+    for t in &mut triangles {
+        for v in t.iter_mut() {
+            if index[*v] == usize::MAX {
+                index[*v] = points.len();
+                points.push(w.points[*v]);
+            }
+            *v = index[*v];
+        }
+    }
+    Watertight { points, triangles, face_of }
 }
 
 /// Which faces of the triangulation lie inside the bounds, by face index: a flood
@@ -546,6 +609,22 @@ fn grouped(w: &Watertight, names: &[String]) -> (Vec<[usize; 3]>, Vec<Group>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Two triangles of a strip whose far corners are 1e-9 apart: welding at 1e-7 makes
+    /// them one vertex, the sliver between them goes, the fan around keeps its edges.
+    #[test]
+    fn weld_collapses_close_vertices() {
+        let p = |x: f64, y: f64| Point3::new(x, y, 0.0);
+        let w = Watertight {
+            points: vec![p(0.0, 0.0), p(1.0, 0.0), p(1.0, 1e-9), p(0.0, 1.0)],
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+            face_of: vec![0, 1],
+        };
+        let out = weld(w, 1e-7);
+        assert_eq!(out.points, vec![p(0.0, 0.0), p(1.0, 0.0), p(0.0, 1.0)]);
+        assert_eq!(out.triangles, vec![[0, 1, 2]]);
+        assert_eq!(out.face_of, vec![1]);
+    }
 
     #[test]
     fn even_odd_inside_with_a_hole() {
