@@ -477,9 +477,11 @@ fn face_triangles(
             }
         }
     };
+    // Which triangles are inside, for the triangulation as it stands.
+    let mut within = Vec::new();
     for round in 0..=MAX_ROUNDS {
         let mut split = Vec::new();
-        let within = inside_faces(&cdt);
+        within = inside_faces(&cdt);
         for f in cdt.inner_faces() {
             if !within[f.fix().index()] {
                 continue;
@@ -529,8 +531,8 @@ fn face_triangles(
             points.push(s.eval(u, v));
         }
     }
+    // The last round split nothing: its `within` is the final triangulation's.
     let mut out = Vec::new();
-    let within = inside_faces(&cdt);
     for f in cdt.inner_faces() {
         if !within[f.fix().index()] {
             continue;
