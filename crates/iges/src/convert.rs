@@ -14,7 +14,7 @@
 //! | entity | u | v |
 //! | --- | --- | --- |
 //! | 108 plane, 190 | along X of the plane's frame (OCCT `gp_Ax3` rule) | along Y |
-//! | 120 revolution | angle (arc map) | generatrix parameter |
+//! | 120 revolution | `EA − θ` about the reversed axis (arc map) | generatrix parameter (an arc's angle) |
 //! | 122 tabulated cylinder | directrix parameter | length along the generatrix |
 //! | 192 / 194 / 196 / 198 | angle (arc map) | axial length / cone length / latitude / angle |
 //! | 110 line | length from the start point | |
@@ -23,10 +23,10 @@
 //! | 104 hyperbola | hyperbolic angle from the start point | |
 //! | 104 parabola | distance across the axis from the start point | |
 //!
-//! One OCCT quirk: when a 120 carries a reflecting 124 matrix (determinant −1), OCCT
-//! transforms the axis *direction* and so runs the angle the other way: OCCT's `u` is
-//! cadmorph's `−u` (mod 2π). The geometry is the same. (Untested: the side of a 140 over
-//! such a 120 may then differ from OCCT's.) OCCT makes the face of a 140 over the offset's
+//! OCCT builds a 120 about its axis reversed (from the start point towards the end
+//! point's opposite), with the generatrix turned to `2π − EA`, so that its normal is the
+//! IGES normal `S_t × S_θ`; cadmorph builds the NURBS the same way, so OCCT's `(u, v)` are
+//! cadmorph's through the maps, reflecting 124 matrices included. OCCT makes the face of a 140 over the offset's
 //! natural bounds (a 120's full turn, not its angles), and no face at all over a whole 196
 //! sphere; it misplaces the vertex of a 104 parabola not of the form `y² = 4fx`.
 //!
@@ -295,23 +295,7 @@ impl Document {
                 let k = KnotVector::try_new(vec![0.0, 0.0, len, len]).map_err(&g)?;
                 vec![NurbsCurve::try_new(1, k, vec![l.start, l.end], None).map_err(&g)?]
             }
-            View::CircularArc(a) => {
-                let (cx, cy) = (a.center[0], a.center[1]);
-                let (sx, sy) = (a.start[0] - cx, a.start[1] - cy);
-                let (ex, ey) = (a.end[0] - cx, a.end[1] - cy);
-                let r = sx.hypot(sy);
-                let t0 = sy.atan2(sx);
-                let mut t1 = ey.atan2(ex);
-                while t1 <= t0 + 1e-12 {
-                    t1 += TAU;
-                }
-                if t1 - t0 > TAU {
-                    t1 = t0 + TAU;
-                }
-                let frame = Placement::try_new(Point3::new(cx, cy, a.z), Vector3::z(), Vector3::x()).map_err(&g)?;
-                let circle = Circle::try_new(frame, r).map_err(&g)?;
-                vec![circle.to_nurbs(t0..=t1).map_err(&g)?.curve]
-            }
+            View::CircularArc(a) => vec![circular_arc(&a).map_err(&g)?.curve],
             // Hyperbolas and parabolas (and form 0, classified by its coefficients).
             View::ConicArc(c) if c.form != 1 => vec![conic::conic_arc(&c).map_err(|why| match why {
                 conic::ConicError::Invalid(reason) => unsupported(self, id, reason),
@@ -404,12 +388,17 @@ impl Document {
         })?;
         let size = s.surface.control_extent();
         let (ud, vd) = s.surface.domain();
+        let to_occt = self.parameter_space_map(surface)?;
         let mut out = Vec::new();
         for p in self.curve_at(parameter_curve, nest)? {
             let d = p.domain();
             let f = |t: f64| {
                 let q = cadmorph_nurbs::Curve::eval(&p, t);
-                let (u, v) = s.nurbs_params(q.x, q.y);
+                let (a, b) = match to_occt {
+                    Some((ea, scale)) => (ea - q.y, q.x * scale),
+                    None => (q.x, q.y),
+                };
+                let (u, v) = s.nurbs_params(a, b);
                 let (u, v) = (u.clamp(*ud.start(), *ud.end()), v.clamp(*vd.start(), *vd.end()));
                 cadmorph_nurbs::Surface::eval(&s.surface, u, v)
             };
@@ -420,6 +409,22 @@ impl Document {
             out.push(c);
         }
         Ok(out)
+    }
+
+    /// IGES parameter space of `surface` → the `(u, v)` of its [`ExactSurface`] maps
+    /// (OCCT's parameters). The identity but for a 120, which IGES parameterises as
+    /// (generatrix `t`, angle `θ`) (§4.18): `u = EA − θ` (see [`occt_revolution`]) and `v`
+    /// the generatrix parameter, a line's `t ∈ [0, 1]` scaled to its length (§4.13).
+    /// `Some((EA, scale))` for a 120, `None` for the identity.
+    fn parameter_space_map(&self, surface: EntityId) -> Result<Option<(f64, f64)>> {
+        if let View::SurfaceOfRevolution(r) = self.view(surface)? {
+            let scale = match self.view(r.generatrix)? {
+                View::Line(l) => (l.end - l.start).norm(),
+                _ => 1.0,
+            };
+            return Ok(Some((r.end_angle, scale)));
+        }
+        Ok(None)
     }
 
     /// A point entity (116) with its own transformation applied.
@@ -581,16 +586,11 @@ impl Document {
                 s.to_nurbs(0.0..=TAU, -PI..=PI).map_err(&g)?
             }
             View::SurfaceOfRevolution(r) => {
-                let axis = self.curve_at(r.axis, nest)?;
-                let (Some(a0), Some(a1)) =
-                    (axis.first().map(|c| c.control_points()[0]), axis.last().and_then(|c| c.control_points().last()))
-                else {
+                let Some((a0, a1)) = self.axis_ends(&r, nest)? else {
                     return Err(unsupported(self, id, "axis of revolution is not a line"));
                 };
                 let gen = self.curve_joined_at(r.generatrix, nest)?;
-                let dom = gen.domain();
-                let rev = Revolution::try_new(gen, a0, a1 - a0).map_err(&g)?;
-                rev.to_nurbs(r.start_angle..=r.end_angle, dom).map_err(&g)?
+                occt_revolution(gen, a0, a1, &r, self.generatrix_map(r.generatrix)?).map_err(&g)?
             }
             View::TabulatedCylinder(t) => {
                 let dir = self.curve_joined_at(t.directrix, nest)?;
@@ -662,10 +662,9 @@ impl Document {
     ) -> Result<(ExactSurface, Option<FitNumbers>)> {
         let base = o.surface;
         self.surface_chain(id)?;
-        // IGES parameterises a 120 as (generatrix t, angle θ) (§4.18), cadmorph and OCCT as
-        // (θ, t): the IGES normal S_t × S_θ is the opposite of S_u × S_v here. (OCCT's reader
-        // gets the IGES side by building the revolution about the reversed axis.)
-        let d = if self.entity(base)?.entity_type() == 120 { -o.distance } else { o.distance };
+        // A 120 is built about the reversed axis as OCCT builds it, so S_u × S_v is the
+        // IGES normal S_t × S_θ (§4.18) for it too.
+        let d = o.distance;
         if !d.is_finite() {
             return Err(unsupported(self, id, "offset surface with a non-finite distance"));
         }
@@ -785,18 +784,36 @@ impl Document {
                 let Some(gen) = self.revolution_offset_generatrix(id, &r, d, nest)? else {
                     return Ok(None);
                 };
-                let axis = self.curve_at(r.axis, nest)?;
-                let (Some(a0), Some(a1)) =
-                    (axis.first().map(|c| c.control_points()[0]), axis.last().and_then(|c| c.control_points().last()))
-                else {
+                let Some((a0, a1)) = self.axis_ends(&r, nest)? else {
                     return Ok(None);
                 };
-                let dom = gen.domain();
-                let rev = Revolution::try_new(gen, a0, a1 - a0).map_err(&g)?;
-                rev.to_nurbs(r.start_angle..=r.end_angle, dom).map_err(&g)?
+                occt_revolution(gen, a0, a1, &r, self.generatrix_map(r.generatrix)?).map_err(&g)?
             }
             _ => return Ok(None),
         }))
+    }
+
+    /// How a 120's generatrix's analytic parameter (OCCT's `v`) maps to its NURBS
+    /// parameter: the angle of a 100 arc, the identity for the other curves (whose NURBS
+    /// parameter is already OCCT's).
+    fn generatrix_map(&self, id: EntityId) -> Result<ParamMap> {
+        Ok(match self.view(id)? {
+            View::CircularArc(a) => circular_arc(&a).map_err(geometry(id))?.map,
+            _ => ParamMap::Identity,
+        })
+    }
+
+    /// The start and end points of a 120's axis line, in the 120's definition space.
+    fn axis_ends(
+        &self,
+        r: &crate::entity::SurfaceOfRevolution,
+        nest: Nest<'_>,
+    ) -> Result<Option<(Point3<f64>, Point3<f64>)>> {
+        let axis = self.curve_at(r.axis, nest)?;
+        Ok(match (axis.first().map(|c| c.control_points()[0]), axis.last().and_then(|c| c.control_points().last())) {
+            (Some(a0), Some(&a1)) => Some((a0, a1)),
+            _ => None,
+        })
     }
 
     /// For a 120 whose generatrix is a line (110) or circular arc (100) in a plane through
@@ -818,13 +835,11 @@ impl Document {
             }
             _ => return Ok(None),
         };
-        let axis = self.curve_at(r.axis, nest)?;
-        let (Some(a0), Some(a1)) =
-            (axis.first().map(|c| c.control_points()[0]), axis.last().and_then(|c| c.control_points().last()))
-        else {
+        let Some((a0, a1)) = self.axis_ends(r, nest)? else {
             return Ok(None);
         };
-        let k = a1 - a0;
+        // OCCT's axis (the IGES axis reversed), so that S_u × S_v is the IGES normal.
+        let k = a0 - a1;
         if !(k.norm() > 0.0 && k.norm().is_finite()) {
             return Ok(None);
         }
@@ -850,7 +865,7 @@ impl Document {
         if !(planar && one_side) {
             return Ok(None);
         }
-        // The surface normal at angle 0: (k × (C − a0)) × C'.
+        // The surface normal at angle 0: (k × (C − a0)) × C', the IGES normal S_t × S_θ.
         let tm = (t0 + t1) / 2.0;
         let dv = gen.derivs(tm, 1);
         let c = Point3::from(dv[0]);
@@ -1116,6 +1131,56 @@ fn axial_range(doc: &Document, id: EntityId, frame: &Placement, pts: &[Point3<f6
 }
 
 /// Bézier control values of the cubic `a + b s + c s² + d s³` on `s ∈ [0, h]`.
+/// A 120 surface of revolution in OCCT's parameterisation (its IGES reader, entity 120):
+/// the axis through the start point `a0` pointing back to `a1` (the IGES axis reversed),
+/// the angles `SA' = 2π − EA`, `EA' = 2π − SA`, the generatrix turned by `SA'` about that
+/// axis, `u ∈ [0, EA' − SA']` (the whole turn `[0, 2π]` when that is within 1e-9 of it)
+/// and `v` the generatrix's analytic parameter (`v_map`: the angle of an arc, as OCCT
+/// parameterises its basis curve). The points are IGES's `S(t, θ)` with `θ = EA − u`;
+/// `S_u × S_v` is the IGES normal `S_t × S_θ` (IGES 5.3 §4.18).
+fn occt_revolution(
+    mut gen: NurbsCurve,
+    a0: Point3<f64>,
+    a1: Point3<f64>,
+    r: &crate::entity::SurfaceOfRevolution,
+    v_map: ParamMap,
+) -> cadmorph_nurbs::Result<ExactSurface> {
+    let (sa, ea) = (TAU - r.end_angle, TAU - r.start_angle);
+    let mut delta = ea - sa;
+    if delta > TAU - 1e-9 {
+        delta = TAU;
+    }
+    let dir = a0 - a1;
+    if sa != 0.0 && dir.norm() > 0.0 && dir.iter().all(|c| c.is_finite()) {
+        let turn = nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(dir), sa);
+        let m = Matrix4::new_translation(&a0.coords) * turn.to_homogeneous() * Matrix4::new_translation(&-a0.coords);
+        gen.transform_by(&m);
+    }
+    let dom = gen.domain();
+    let mut s = Revolution::try_new(gen, a0, dir)?.to_nurbs(0.0..=delta, dom)?;
+    s.v_map = v_map;
+    Ok(s)
+}
+
+/// A 100 circular arc in its definition space, exact, with the angle as its analytic
+/// parameter (OCCT's `Geom_Circle` trimmed from the start angle), IGES 5.3 §4.3.
+fn circular_arc(a: &crate::entity::CircularArc) -> cadmorph_nurbs::Result<cadmorph_nurbs::analytic::ExactCurve> {
+    let (cx, cy) = (a.center[0], a.center[1]);
+    let (sx, sy) = (a.start[0] - cx, a.start[1] - cy);
+    let (ex, ey) = (a.end[0] - cx, a.end[1] - cy);
+    let r = sx.hypot(sy);
+    let t0 = sy.atan2(sx);
+    let mut t1 = ey.atan2(ex);
+    while t1 <= t0 + 1e-12 {
+        t1 += TAU;
+    }
+    if t1 - t0 > TAU {
+        t1 = t0 + TAU;
+    }
+    let frame = Placement::try_new(Point3::new(cx, cy, a.z), Vector3::z(), Vector3::x())?;
+    Circle::try_new(frame, r)?.to_nurbs(t0..=t1)
+}
+
 fn cubic_bezier(k: [f64; 4], h: f64) -> [f64; 4] {
     let (a, b, c, d) = (k[0], k[1] * h, k[2] * h * h, k[3] * h * h * h);
     [a, a + b / 3.0, a + 2.0 * b / 3.0 + c / 3.0, a + b + c + d]

@@ -5,7 +5,7 @@
 use cadmorph_iges::write::DocumentBuilder;
 use cadmorph_iges::{Document, EntityId, Status, Units, Value};
 use cadmorph_nurbs::math::Point3;
-use cadmorph_nurbs::{Curve, KnotVector, NurbsCurve, Surface};
+use cadmorph_nurbs::{Curve, CurveProject, KnotVector, NurbsCurve, Surface};
 
 /// The sample B-spline surface trimmed by a loop drawn in its parameter space only.
 fn trimmed_by_parameter_curve() -> (Document, EntityId, NurbsCurve) {
@@ -73,4 +73,76 @@ fn repro_curve_on_surface_without_model_space_curve_is_rebuilt_on_the_surface() 
     // The face is not skipped.
     let faces = doc.faces();
     assert_eq!(faces.len(), 1);
+}
+
+/// `text` with every one-line 142 record's model-space curve pointer set to 0 (and its
+/// preference to the parameter curve), padded to the record's columns; the 142 DEs.
+fn without_model_curves(text: &str) -> (String, Vec<EntityId>) {
+    let mut ids = Vec::new();
+    let lines: Vec<String> = text
+        .lines()
+        .map(|line| {
+            let data = line.get(..64).unwrap_or("");
+            if line.len() >= 73 && &line[72..73] == "P" && data.starts_with("142,") && data.trim_end().ends_with(';') {
+                let f: Vec<&str> = data.trim_end().trim_end_matches(';').split(',').collect();
+                if f.len() == 6 && f[3] != "0" && f[4] != "0" {
+                    ids.push(EntityId(line[64..72].trim().parse().unwrap()));
+                    let new = format!("142,{},{},{},0,1;", f[1], f[2], f[3]);
+                    return format!("{new:<64}{}", &line[64..]);
+                }
+            }
+            line.to_owned()
+        })
+        .collect();
+    (lines.join("\n") + "\n", ids)
+}
+
+/// The 142 trims of PyGeM's pipes and the shaft lie on 120 surfaces of revolution (and
+/// planes); rebuilt from their parameter curves alone, through the 120's IGES parameter
+/// space (generatrix t, angle θ, §4.18), they are the files' own model-space curves.
+#[test]
+fn parameter_curves_on_revolutions_rebuild_the_model_curves() {
+    let pygem = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/pygem-testdata");
+    let mut compared = 0;
+    for path in [
+        pygem.join("test_pipe.igs"),
+        pygem.join("test_pipe.iges"),
+        pygem.join("test_pipe_hollow.iges"),
+        cadmorph_testkit::sample("shaft.igs"),
+    ] {
+        let text = std::fs::read_to_string(&path).unwrap().replace("\r\n", "\n");
+        let original = Document::parse(text.as_bytes()).unwrap();
+        let (changed, ids) = without_model_curves(&text);
+        let rebuilt = Document::parse(changed.as_bytes()).unwrap();
+        assert!(!ids.is_empty(), "{}", path.display());
+        for id in ids {
+            let on_revolution = matches!(original.view(id).unwrap(), cadmorph_iges::View::CurveOnSurface(c)
+                if original.entity(c.surface).unwrap().entity_type() == 120);
+            if !on_revolution {
+                continue;
+            }
+            let (a, b) = (original.curve(id).unwrap(), rebuilt.curve(id).unwrap());
+            assert_eq!(a.len(), b.len(), "{} DE {}: pieces", path.display(), id.0);
+            let pts: Vec<Point3<f64>> = a.iter().flat_map(|c| c.control_points().iter().copied()).collect();
+            let size = pts.iter().map(|p| (p - pts[0]).norm()).fold(0.0, f64::max).max(1e-300);
+            // The pieces' parameters differ (arc angle and line length against parameter
+            // space lengths): compare each piece's point sets, both ways, by projection.
+            let mut worst = 0.0f64;
+            for (pa, pb) in a.iter().zip(&b) {
+                for (x, y) in [(pa, pb), (pb, pa)] {
+                    let d = x.domain();
+                    for k in 0..=20 {
+                        let p = x.eval(d.start() + f64::from(k) / 20.0 * (d.end() - d.start()));
+                        worst = worst.max(y.project(&p, 1e-14 * size).distance_sq.sqrt() / size);
+                    }
+                }
+                let ends = (pa.eval(*pa.domain().start()) - pb.eval(*pb.domain().start())).norm() / size;
+                worst = worst.max(ends);
+            }
+            println!("{} 142 DE {}: {worst:e} of the curve's size", path.display(), id.0);
+            assert!(worst <= 1e-6, "{} DE {}: {worst:e}", path.display(), id.0);
+            compared += 1;
+        }
+    }
+    assert!(compared >= 12, "{compared}");
 }
