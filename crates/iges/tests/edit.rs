@@ -283,3 +283,53 @@ fn occt_reads_new_documents() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The DE numbers of the Null entities (type 0) of `doc`.
+fn nulls(doc: &Document) -> Vec<u32> {
+    doc.entities().filter(|e| e.entity_type() == 0).map(|e| e.id().0).collect()
+}
+
+/// Replacing the 120s of PyGeM's `test_pipe.iges` by 128s orphans each one's axis and
+/// generatrix (110s) and, since the parameter space goes, the parameter curves of its
+/// 142 trims (a 102 of four 110s): exactly those become Null entities (§4.2), with the
+/// directory numbering and every other record as they were; a morph that only moves
+/// control points orphans nothing.
+#[test]
+fn entities_orphaned_by_an_edit_become_null_entities() {
+    let bytes = std::fs::read(pygem("test_pipe.iges")).unwrap();
+    let input = Document::parse(&bytes).unwrap();
+    assert!(nulls(&input).is_empty());
+    let mut doc = input.clone();
+    let ids = replace_all(&mut doc);
+    let out = doc.write();
+    let back = Document::parse(&out).unwrap();
+    assert_eq!(back.len(), input.len());
+    // 120 DE 5: axis 7, generatrix 9; its 142 DE 11's parameter curve 13 = 102 of 15–21.
+    // 120 DE 37: axis 39, generatrix 41; 142 DE 43's 45 = 102 of 47–53.
+    let expected: Vec<u32> = vec![7, 9, 13, 15, 17, 19, 21, 39, 41, 45, 47, 49, 51, 53];
+    assert_eq!(nulls(&back), expected);
+    for e in back.entities() {
+        if e.entity_type() == 0 {
+            assert_eq!(e.param_count(), 1, "{}", e.id());
+            assert_eq!(e.directory().transform, 0);
+            continue;
+        }
+        // Everything neither replaced nor rewritten by the replacement is as it was.
+        let before = input.entity(e.id()).unwrap();
+        if !ids.contains(&e.id()) && !matches!(e.entity_type(), 142) {
+            assert_eq!(e.record_text(), before.record_text(), "{}", e.id());
+        }
+        assert_eq!(e.directory().status, before.directory().status, "{}", e.id());
+    }
+    // Nothing kept points to a Null entity.
+    for e in back.entities().filter(|e| e.entity_type() != 0) {
+        if let Ok(View::CurveOnSurface(c)) = back.view(e.id()) {
+            for p in [Some(c.surface), c.parameter_curve, c.model_curve].into_iter().flatten() {
+                assert!(!expected.contains(&p.0), "{} -> {p}", e.id());
+            }
+        }
+    }
+    // A control-point edit orphans nothing.
+    let (moved, _) = bumped_hull();
+    assert!(nulls(&Document::parse(&moved.write()).unwrap()).is_empty());
+}

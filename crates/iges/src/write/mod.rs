@@ -2,6 +2,7 @@
 //! and the text form of parameter values.
 
 mod new;
+mod orphans;
 
 pub use new::DocumentBuilder;
 
@@ -143,11 +144,30 @@ fn patch_field(line: &mut [u8], k: usize, value: i64) {
     }
 }
 
-/// Writes the document (see [`Document::write`]).
+/// Writes the document (see [`Document::write`]): entities the edits orphaned become
+/// Null entities (see [`orphans`]).
 pub(crate) fn write(doc: &Document) -> Vec<u8> {
     if !doc.edited {
         return doc.src.bytes.clone();
     }
+    let orphans = doc.orphans();
+    if orphans.is_empty() {
+        return write_edited(doc);
+    }
+    let mut d = doc.clone();
+    for k in orphans {
+        let id = d.entities[k].id;
+        // A one-value record cannot fail to lay out or read back.
+        if d.set_values(id, vec![Value::Integer(0)], Some(0)).is_ok() {
+            let dir = &mut d.entities[k].directory;
+            (dir.structure, dir.line_font, dir.level, dir.view, dir.transform, dir.label_display, dir.color) =
+                (0, 0, 0, 0, 0, 0, 0);
+        }
+    }
+    write_edited(&d)
+}
+
+fn write_edited(doc: &Document) -> Vec<u8> {
     let layout = &doc.layout;
     let eol = doc.eol().to_vec();
     let mut out = Vec::with_capacity(doc.src.bytes.len() + 4096);
@@ -190,6 +210,21 @@ pub(crate) fn write(doc: &Document) -> Vec<u8> {
             patch_field(&mut a, 0, i64::from(e.directory.entity_type));
             patch_field(&mut b, 0, i64::from(e.directory.entity_type));
             patch_field(&mut b, 4, e.directory.form);
+            if e.directory.entity_type == 0 {
+                // A Null entity (an orphan): its pointer fields no longer point anywhere.
+                let d = &e.directory;
+                for (k, v) in [
+                    (2, d.structure),
+                    (3, d.line_font),
+                    (4, d.level),
+                    (5, d.view),
+                    (6, d.transform),
+                    (7, d.label_display),
+                ] {
+                    patch_field(&mut a, k, v);
+                }
+                patch_field(&mut b, 2, d.color);
+            }
         }
         out.extend_from_slice(&a);
         out.extend_from_slice(&doc.src.bytes[doc.src.lines[la].end..doc.src.lines[la].next]);
