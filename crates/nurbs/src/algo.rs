@@ -98,22 +98,33 @@ pub(crate) fn bezier_starts(p: usize, knots: &[f64], values: &[f64]) -> Vec<usiz
     values[..values.len() - 1].iter().map(|&v| knots.partition_point(|&k| k <= v) - 1 - p).collect()
 }
 
-/// A5.4: inserts all of `x` (sorted, inside the domain) at once.
-pub(crate) fn refine(p: usize, knots: &[f64], pw: &[Hom], x: &[f64]) -> (Vec<f64>, Vec<Hom>) {
-    if x.is_empty() {
-        return (knots.to_vec(), pw.to_vec());
-    }
-    let n = pw.len() - 1;
+/// One step of knot refinement (A5.4), the same for every row of a net: the
+/// coefficients depend on the knots and the inserted values only.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum RefineStep {
+    /// `new[dst] = old[src]`.
+    Old { dst: usize, src: usize },
+    /// `new[dst] = new[src]`.
+    New { dst: usize, src: usize },
+    /// `new[dst] = alfa · new[dst] + (1 − alfa) · new[dst + 1]`.
+    Blend { dst: usize, alfa: f64 },
+}
+
+/// The plan of A5.4 for inserting all of `x` (sorted, inside the domain) into `knots`
+/// (degree `p`, `n + 1` control points): the refined knot vector and the steps that make
+/// the `n + r + 2` new control points from the old ones, in order. Piegl & Tiller A5.4
+/// with the point updates recorded instead of done, so that a surface (A5.5) computes
+/// the coefficients once for all its rows.
+pub(crate) fn refine_plan(p: usize, knots: &[f64], n: usize, x: &[f64]) -> (Vec<f64>, Vec<RefineStep>) {
+    use RefineStep::{Blend, New, Old};
     let m = n + p + 1;
     let r = x.len() - 1;
     let a = crate::knots::find_span(knots, p, x[0]);
     let b = crate::knots::find_span(knots, p, x[r]) + 1;
-    let mut qw = vec![Hom::zeros(); n + r + 2];
+    let mut steps = Vec::with_capacity(n + 2 + (r + 1) * (p + 2));
     let mut ub = vec![0.0; m + r + 2];
-    qw[..=a - p].copy_from_slice(&pw[..=a - p]);
-    for j in b - 1..=n {
-        qw[j + r + 1] = pw[j];
-    }
+    steps.extend((0..=a - p).map(|j| Old { dst: j, src: j }));
+    steps.extend((b - 1..=n).map(|j| Old { dst: j + r + 1, src: j }));
     ub[..=a].copy_from_slice(&knots[..=a]);
     for j in b + p..=m {
         ub[j + r + 1] = knots[j];
@@ -122,26 +133,60 @@ pub(crate) fn refine(p: usize, knots: &[f64], pw: &[Hom], x: &[f64]) -> (Vec<f64
     let mut k = b + p + r;
     for j in (0..=r).rev() {
         while x[j] <= knots[i] && i > a {
-            qw[k - p - 1] = pw[i - p - 1];
+            steps.push(Old { dst: k - p - 1, src: i - p - 1 });
             ub[k] = knots[i];
             k -= 1;
             i -= 1;
         }
-        qw[k - p - 1] = qw[k - p];
+        steps.push(New { dst: k - p - 1, src: k - p });
         for l in 1..=p {
             let ind = k - p + l;
             let alfa = ub[k + l] - x[j];
             if alfa.abs() == 0.0 {
-                qw[ind - 1] = qw[ind];
+                steps.push(New { dst: ind - 1, src: ind });
             } else {
-                let alfa = alfa / (ub[k + l] - knots[i + l - p]);
-                qw[ind - 1] = qw[ind - 1] * alfa + qw[ind] * (1.0 - alfa);
+                steps.push(Blend { dst: ind - 1, alfa: alfa / (ub[k + l] - knots[i + l - p]) });
             }
         }
         ub[k] = x[j];
         k -= 1;
     }
-    (ub, qw)
+    (ub, steps)
+}
+
+/// Runs a [`refine_plan`] on blocks of `width` values: control point `i` of the old
+/// row is `old[i·width .. (i+1)·width]`, and likewise in `new` (of `n + r + 2` blocks).
+/// A block may hold one homogeneous point, or a whole column of a net (all its rows at
+/// once, contiguous: what A5.5 loops over, here in one pass the compiler vectorises).
+pub(crate) fn run_plan(steps: &[RefineStep], old: &[f64], new: &mut [f64], width: usize) {
+    for step in steps {
+        match *step {
+            RefineStep::Old { dst, src } => {
+                new[dst * width..(dst + 1) * width].copy_from_slice(&old[src * width..(src + 1) * width]);
+            }
+            RefineStep::New { dst, src } => new.copy_within(src * width..(src + 1) * width, dst * width),
+            RefineStep::Blend { dst, alfa } => {
+                let (lo, hi) = new[dst * width..(dst + 2) * width].split_at_mut(width);
+                let beta = 1.0 - alfa;
+                for (q, &h) in lo.iter_mut().zip(hi.iter()) {
+                    *q = *q * alfa + h * beta;
+                }
+            }
+        }
+    }
+}
+
+/// A5.4: inserts all of `x` (sorted, inside the domain) at once.
+pub(crate) fn refine(p: usize, knots: &[f64], pw: &[Hom], x: &[f64]) -> (Vec<f64>, Vec<Hom>) {
+    if x.is_empty() {
+        return (knots.to_vec(), pw.to_vec());
+    }
+    let n = pw.len() - 1;
+    let (ub, steps) = refine_plan(p, knots, n, x);
+    let old: Vec<f64> = pw.iter().flat_map(|h| h.iter().copied()).collect();
+    let mut new = vec![0.0; (n + x.len() + 1) * 4];
+    run_plan(&steps, &old, &mut new, 4);
+    (ub, new.chunks_exact(4).map(|c| Hom::new(c[0], c[1], c[2], c[3])).collect())
 }
 
 /// A5.8 on several rows at once: removes the knot `knots[r]` (last copy of its value,

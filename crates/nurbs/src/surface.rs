@@ -504,9 +504,72 @@ impl NurbsSurface {
         if x.is_empty() {
             return Ok(());
         }
-        let p = self.u_degree;
-        *self = self.map_u_rows(p, |knots, c| algo::refine(p, knots, c, &x));
+        let (n_u, n_v) = (self.n_u, self.n_v);
+        let (ub, steps) = algo::refine_plan(self.u_degree, self.u_knots.as_slice(), n_u - 1, &x);
+        let (old, d) = self.flat();
+        // Block i of the plan is the whole row i of the net: every column at once.
+        let width = n_v * d;
+        let mut new = vec![0.0; (n_u + x.len()) * width];
+        algo::run_plan(&steps, &old, &mut new, width);
+        self.set_flat((ub, self.v_knots.as_slice().to_vec()), (n_u + x.len(), n_v), &new, d);
         Ok(())
+    }
+
+    /// The net as flat values, point after point in storage order: `x y z` (weight 1,
+    /// `d = 3`) or homogeneous `xw yw zw w` (`d = 4`).
+    fn flat(&self) -> (Vec<f64>, usize) {
+        match &self.weights {
+            None => (self.control_points.iter().flat_map(|p| [p.x, p.y, p.z]).collect(), 3),
+            Some(_) => (self.homogeneous().iter().flat_map(|h| h.iter().copied()).collect(), 4),
+        }
+    }
+
+    /// Replaces knots and net by flat values as [`flat`](Self::flat) gives them.
+    fn set_flat(&mut self, knots: (Vec<f64>, Vec<f64>), size: (usize, usize), flat: &[f64], d: usize) {
+        self.set_flat_at(knots, size, flat, d, |k| k * d);
+    }
+
+    /// [`set_flat`](Self::set_flat) with control point `k` (storage order) at
+    /// `flat[at(k)..at(k) + d]`.
+    fn set_flat_at(
+        &mut self,
+        knots: (Vec<f64>, Vec<f64>),
+        size: (usize, usize),
+        flat: &[f64],
+        d: usize,
+        at: impl Fn(usize) -> usize,
+    ) {
+        let degrees = (self.u_degree, self.v_degree);
+        let n = size.0 * size.1;
+        *self = if d == 3 {
+            let points = (0..n)
+                .map(|k| {
+                    let c = &flat[at(k)..at(k) + 3];
+                    Point3::new(c[0], c[1], c[2])
+                })
+                .collect();
+            Self {
+                u_degree: degrees.0,
+                v_degree: degrees.1,
+                infinite: false,
+                u_inv: inverse_denominators(&knots.0, degrees.0),
+                v_inv: inverse_denominators(&knots.1, degrees.1),
+                u_knots: KnotVector::new_unchecked(knots.0),
+                v_knots: KnotVector::new_unchecked(knots.1),
+                n_u: size.0,
+                n_v: size.1,
+                control_points: points,
+                weights: None,
+            }
+        } else {
+            let pw: Vec<Hom> = (0..n)
+                .map(|k| {
+                    let c = &flat[at(k)..at(k) + 4];
+                    Hom::new(c[0], c[1], c[2], c[3])
+                })
+                .collect();
+            Self::from_parts(degrees, knots, size, &pw, true)
+        };
     }
 
     /// Knot refinement in v (Piegl & Tiller A5.5, v direction).
@@ -519,8 +582,49 @@ impl NurbsSurface {
         if x.is_empty() {
             return Ok(());
         }
-        let q = self.v_degree;
-        *self = self.map_v_rows(q, |knots, r| algo::refine(q, knots, r, &x));
+        let (n_u, n_v) = (self.n_u, self.n_v);
+        let (vb, steps) = algo::refine_plan(self.v_degree, self.v_knots.as_slice(), n_v - 1, &x);
+        let n_new = n_v + x.len();
+        let (old, d) = self.flat();
+        // The plan runs on groups of rows gathered column by column (block j of the
+        // plan = column j of the group's rows, all at once), in small buffers that stay
+        // in cache; each group goes straight to the new net.
+        const GROUP: usize = 16;
+        let mut points: Vec<Point3<f64>> = Vec::with_capacity(if d == 3 { n_u * n_new } else { 0 });
+        let mut hom: Vec<Hom> = Vec::with_capacity(if d == 4 { n_u * n_new } else { 0 });
+        let mut g_old = vec![0.0; n_v * GROUP * d];
+        let mut g_new = vec![0.0; n_new * GROUP * d];
+        for i0 in (0..n_u).step_by(GROUP) {
+            let g = GROUP.min(n_u - i0);
+            let width = g * d;
+            for j in 0..n_v {
+                for r in 0..g {
+                    let src = ((i0 + r) * n_v + j) * d;
+                    g_old[j * width + r * d..j * width + (r + 1) * d].copy_from_slice(&old[src..src + d]);
+                }
+            }
+            algo::run_plan(&steps, &g_old[..n_v * width], &mut g_new[..n_new * width], width);
+            // The group's rows, in storage order: appended.
+            for r in 0..g {
+                for j in 0..n_new {
+                    let c = &g_new[j * width + r * d..j * width + (r + 1) * d];
+                    if d == 3 {
+                        points.push(Point3::new(c[0], c[1], c[2]));
+                    } else {
+                        hom.push(Hom::new(c[0], c[1], c[2], c[3]));
+                    }
+                }
+            }
+        }
+        let knots = (self.u_knots.as_slice().to_vec(), vb);
+        if d == 3 {
+            self.v_inv = inverse_denominators(&knots.1, self.v_degree);
+            self.v_knots = KnotVector::new_unchecked(knots.1);
+            self.n_v = n_new;
+            self.control_points = points;
+        } else {
+            *self = Self::from_parts((self.u_degree, self.v_degree), knots, (n_u, n_new), &hom, true);
+        }
         Ok(())
     }
 

@@ -257,3 +257,63 @@ proptest! {
             "Suv {:?} vs {:?}", d[(1, 1)], fduv);
     }
 }
+
+/// Surface refinement runs A5.4's coefficients once for the whole net, in groups of
+/// rows: row by row it must give what the curve refinement (A5.4 on one row) gives, for
+/// rational and non-rational nets of more rows than one group, in both directions.
+#[test]
+fn surface_refinement_equals_refining_each_row_as_a_curve() {
+    use cadmorph_nurbs::KnotVector;
+    for rational in [false, true] {
+        let (n_u, n_v) = (37, 9);
+        let (p, q) = (3, 2);
+        let mut pts = Vec::new();
+        let mut w = Vec::new();
+        for i in 0..n_u {
+            for j in 0..n_v {
+                let (x, y) = (i as f64, j as f64);
+                pts.push(Point3::new(x, y, (0.3 * x).sin() * (0.7 * y).cos() + 0.01 * x * y));
+                w.push(1.0 + 0.4 * ((i * 7 + j * 3) % 5) as f64 / 5.0);
+            }
+        }
+        let s = NurbsSurface::try_new(
+            (p, q),
+            (KnotVector::clamped_uniform(p, n_u), KnotVector::clamped_uniform(q, n_v)),
+            (n_u, n_v),
+            pts,
+            rational.then_some(w),
+        )
+        .unwrap();
+        let xv: Vec<f64> = (1..40).map(|k| k as f64 / 40.0 + 0.003).collect();
+        let xu: Vec<f64> = (1..25).map(|k| k as f64 / 25.0 - 0.002).collect();
+        let mut b = s.clone();
+        b.refine_v(&xv).unwrap();
+        for i in 0..n_u {
+            let row: Vec<Point3<f64>> = (0..n_v).map(|j| s.control_point(i, j)).collect();
+            let rw = s.weights().map(|w| w[i * n_v..(i + 1) * n_v].to_vec());
+            let mut c = NurbsCurve::try_new(q, s.v_knots().clone(), row, rw).unwrap();
+            c.refine(&xv).unwrap();
+            assert_eq!(c.knots().as_slice(), b.v_knots().as_slice());
+            for (j, cp) in c.control_points().iter().enumerate() {
+                let e = (cp - b.control_point(i, j)).norm();
+                assert!(e <= 1e-13, "rational {rational} row {i} point {j}: {e:e}");
+                if let (Some(cw), Some(bw)) = (c.weights(), b.weights()) {
+                    assert!((cw[j] - bw[i * b.n_v() + j]).abs() <= 1e-13);
+                }
+            }
+        }
+        let mut bu = b.clone();
+        bu.refine_u(&xu).unwrap();
+        for j in 0..b.n_v() {
+            let col: Vec<Point3<f64>> = (0..n_u).map(|i| b.control_point(i, j)).collect();
+            let cw = b.weights().map(|w| (0..n_u).map(|i| w[i * b.n_v() + j]).collect());
+            let mut c = NurbsCurve::try_new(p, b.u_knots().clone(), col, cw).unwrap();
+            c.refine(&xu).unwrap();
+            for (i, cp) in c.control_points().iter().enumerate() {
+                let e = (cp - bu.control_point(i, j)).norm();
+                assert!(e <= 1e-13, "rational {rational} column {j} point {i}: {e:e}");
+            }
+        }
+        same_surface(&s, &bu, REFINE_INVARIANCE).unwrap();
+    }
+}
