@@ -43,7 +43,11 @@ for k in ("checksum_eval", "checksum_d1", "checksum_refine_poles"):
     print(f"{k}: occt {o[k]!r} cadmorph {c[k]!r} (relative difference {rel:.1e})")
     if rel > 1e-12:
         sys.exit(f"checksum {k} differs")
-print(f"{'case':<14}{'OCCT s':>12}{'cadmorph s':>14}{'ratio':>9}")
+print(f"{'case':<14}{'OCCT s':>12}{'cadmorph s':>14}{'ratio':>9}   same-round ratios min / median / max")
 for k, name in (("eval_1e6_s", "Value 1e6"), ("d1_1e6_s", "D1 1e6"), ("refine_100_s", "refine 100")):
-    print(f"{name:<14}{best['occt'][k]:>12.4g}{best['cadmorph'][k]:>14.4g}{best['occt'][k] / best['cadmorph'][k]:>8.2f}x")
+    pairs = sorted(o[k] / c[k] for o, c in zip(rows["occt"], rows["cadmorph"]))
+    med = pairs[len(pairs) // 2] if len(pairs) % 2 else 0.5 * (pairs[len(pairs) // 2 - 1] + pairs[len(pairs) // 2])
+    print(f"{name:<14}{best['occt'][k]:>12.4g}{best['cadmorph'][k]:>14.4g}{best['occt'][k] / best['cadmorph'][k]:>8.2f}x"
+          f"   {pairs[0]:.2f} / {med:.2f} / {pairs[-1]:.2f} over {len(pairs)} rounds")
+print("load average:", open("/proc/loadavg").read().split()[:3])
 PY
