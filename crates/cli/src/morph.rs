@@ -64,7 +64,7 @@ pub struct Args {
     #[arg(long, value_parser = crate::limits::positive)]
     tol: Option<f64>,
     /// With --refine-tol: stop refining (and fail) before the faces would hold more than
-    /// this many control points in all. Default: 20 times the input's.
+    /// this many control points in all. Default: 20 times the input's, at least 10 000.
     #[arg(long, requires = "refine_tol")]
     max_control_points: Option<usize>,
     /// PyGeM-style refinement instead: this many evenly spaced knots per direction.
@@ -141,7 +141,7 @@ pub fn run(a: Args) -> Result<()> {
             crate::limits::check_gap_tolerance("--refine-tol", t, m.size(), m.unit())?;
             crate::limits::check_angle_tolerance("--angle-tol", a.angle_tol)?;
             let mut r = SeamRefineOptions::new(t, a.angle_tol);
-            r.max_control_points = a.max_control_points.unwrap_or(before.saturating_mul(20).max(1000));
+            r.max_control_points = a.max_control_points.unwrap_or(SeamRefineOptions::default_budget(before));
             Some(r)
         }
         None => None,

@@ -200,7 +200,7 @@ impl PyModel {
     ///
     /// `refine_tol` (model units): insert knots first where the morph needs them, until the
     /// seams stay within this gap and `angle_tol` degrees after the morph (at most
-    /// `max_control_points` in all, default 20x the input's); a refinement that does not
+    /// `max_control_points` in all, default `SeamRefineOptions::default_budget`: 20x the input's, at least 10 000); a refinement that does not
     /// converge raises `CadFileError` and leaves the model as it was. `uniform_knots`:
     /// PyGeM-style refinement instead (that many knots per direction on every patch).
     /// `repair`: make knots compatible across seams first and both sides of every shared
@@ -232,7 +232,7 @@ impl PyModel {
                     return Err(PyValueError::new_err(format!("refine_tol must be positive and finite, got {t}")));
                 }
                 let mut r = SeamRefineOptions::new(t, angle_tol);
-                r.max_control_points = max_control_points.unwrap_or(before.saturating_mul(20).max(1000));
+                r.max_control_points = max_control_points.unwrap_or(SeamRefineOptions::default_budget(before));
                 Some(r)
             }
             None => None,

@@ -28,6 +28,15 @@ impl SeamRefineOptions {
     pub fn new(tol: f64, angle_tol_deg: f64) -> Self {
         Self { tol, angle_tol_deg, max_rounds: 30, max_control_points: 2_000_000 }
     }
+
+    /// The control-point budget a refinement of a model holding `before` control points
+    /// gets unless told otherwise: 20 times the input, and at least 10 000 (a small
+    /// model refined as PyGeM refines it, 30 knots per direction, already holds several
+    /// thousand: PyGeM's `test_pipe.igs`, 48 control points, gets 6 528). It stops a
+    /// runaway refinement (one chasing a gap it cannot close) long before memory does.
+    pub fn default_budget(before: usize) -> usize {
+        before.saturating_mul(20).max(10_000)
+    }
 }
 
 /// What [`refine_seams`] did. It reads back from its JSON form (`morph --json`'s
