@@ -275,3 +275,23 @@ fn a_part_placed_twice_is_refused_by_the_morph_with_its_surface_and_faces() {
     assert_eq!(e.lines().count(), 1, "{e}");
     assert!(!Path::new(&out).exists());
 }
+
+#[test]
+fn a_part_placed_by_mapped_items_is_refused_by_the_morph() {
+    // MAPPED_ITEM placements of one representation: the same refusal as for assemblies.
+    let s = Scratch::new("mapped");
+    let out = s.path("out.stp");
+    let o = cadmorph(&["morph", "samples/mapped_item.stp", "--ffd", "tests/repro/fuzz_small.prm", "-o", &out]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("surface #32 (occurrence 2) is used by face #17 and face #17 (occurrence 2)"), "{e}");
+    assert!(e.contains("one part placed more than once"), "{e}");
+    assert!(!Path::new(&out).exists());
+    // `seams` and `info` see every placed face.
+    let o = cadmorph(&["info", "samples/mapped_item.stp"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("faces (35;"), "{}", String::from_utf8_lossy(&o.stdout));
+    let o = cadmorph(&["seams", "samples/mapped_item.stp"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("75 shared edges"), "{}", String::from_utf8_lossy(&o.stdout));
+}

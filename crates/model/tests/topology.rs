@@ -114,6 +114,15 @@ fn assembly_edges_are_occts() {
 
 #[test]
 #[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
+fn mapped_item_edges_are_occts() {
+    // The plate (12 box edges, 2 hole circles) at 5 MAPPED_ITEM placements: 70 edges, none
+    // across placements; with the part also read unplaced as a root, 84.
+    compare::<cadmorph_step::Document>(&sample("mapped_item.stp"), 70, 1e-9);
+    compare::<cadmorph_step::Document>(&sample("mapped_item_root.stp"), 84, 1e-9);
+}
+
+#[test]
+#[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
 fn shaft_edges_are_occts() {
     // 9 faces of revolution in a row: 8 circular edges, measured along the trims.
     compare::<cadmorph_iges::Document>(&sample("shaft.igs"), 8, 1e-7);

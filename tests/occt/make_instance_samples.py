@@ -1,0 +1,159 @@
+#!/usr/bin/env python3
+"""make_instance_samples.py - the placed-instance samples of issue 22 item 4.
+
+    tests/occt/.venv/bin/python tests/occt/make_instance_samples.py [--out-dir samples]
+
+Writes, deterministically (fixed header dates and authors):
+
+  mapped_item.stp
+      The plate of make_topo_samples.py (planes and a cylinder, millimetres), placed five
+      times by MAPPED_ITEM (ISO 10303-43 §4.5.6 representation_map, §4.5.7 mapped_item), the
+      way CATIA- and NX-style "representation map" files place repeated geometry:
+      the product's shape representation `assembly` holds three MAPPED_ITEMs, two of a
+      sub-representation `pair` (itself holding two MAPPED_ITEMs of the part's
+      ADVANCED_BREP_SHAPE_REPRESENTATION) and one of the part directly; 2 x 2 + 1 = 5
+      placements. The part's REPRESENTATION_MAP has a mapping origin that is not the
+      identity, so target ∘ origin⁻¹ is exercised. The part's representation has no
+      SHAPE_DEFINITION_REPRESENTATION of its own: only the maps reach it.
+  mapped_item_root.stp
+      The same, except that the part's representation keeps the SHAPE_DEFINITION_REPRESENTATION
+      OCCT wrote for it (so its product is a root too), and a second product carries the
+      `assembly` representation: does OCCT read the part once more, unplaced?
+
+No OCCT writer emits MAPPED_ITEM for placed parts (STEPCAFControl_Writer writes
+NEXT_ASSEMBLY_USAGE_OCCURRENCE / CONTEXT_DEPENDENT_SHAPE_REPRESENTATION), so both files are
+made by rewriting the STEP text OCCT writes for the single part (STEPControl_Writer,
+AP214): the new entities are appended after OCCT's own, and the product's
+SHAPE_DEFINITION_REPRESENTATION is pointed at the new top representation.
+
+  subfigure.igs
+      IGES 5.3 §4.74 (308 subfigure definition) and §4.137 (408 singular subfigure
+      instance): the plate written by OCCT in IGES faces mode (144 trimmed surfaces with
+      142 curves on surface, millimetres) is made the content of a 308 `PART`, with every
+      entity marked physically dependent; a second 308 `PAIR` (depth 2) holds two 408
+      instances of `PART` (one carrying a 124 rotation, one with scale 0.5), and two 408s
+      of `PAIR` at the top (one with a 124 transform, one with scale 2) make 4 placed
+      copies. The file is made by rewriting OCCT's IGES text (no OCCT writer emits 308 /
+      408) with cadmorph's own record layout rules (64-column parameter data, DE pointers).
+
+The OCCT references (F.ref.json) are made afterwards with `occt_ref.py regen`, the seam
+references with `topo_check.py`.
+"""
+import argparse
+import os
+import re
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import make_topo_samples as topo  # noqa: E402
+
+from OCP.IGESControl import IGESControl_Controller, IGESControl_Writer  # noqa: E402
+from OCP.Interface import Interface_Static  # noqa: E402
+from OCP.STEPControl import STEPControl_AsIs, STEPControl_Controller, STEPControl_Writer  # noqa: E402
+from OCP.TCollection import TCollection_HAsciiString  # noqa: E402
+
+
+# ---------------------------------------------------------------------------------------
+# STEP: MAPPED_ITEM
+# ---------------------------------------------------------------------------------------
+
+def write_part_step(path):
+    STEPControl_Controller.Init_s()
+    assert Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
+    assert Interface_Static.SetCVal_s("write.step.unit", "MM")
+    w = STEPControl_Writer()
+    assert w.Transfer(topo.plate(), STEPControl_AsIs).name == "IFSelect_RetDone"
+    assert w.Write(path).name == "IFSelect_RetDone"
+
+
+class StepText:
+    """OCCT's STEP text with entities appended after the last instance."""
+
+    def __init__(self, text):
+        self.text = text
+        self.next = max(int(m) for m in re.findall(r"^#(\d+)\s*=", text, re.M)) + 1
+        self.new = []
+
+    def add(self, body):
+        k = self.next
+        self.next += 1
+        self.new.append("#%d = %s;" % (k, body))
+        return k
+
+    def placement(self, origin, z=(0.0, 0.0, 1.0), x=(1.0, 0.0, 0.0)):
+        f = lambda v: "(%s)" % ",".join(repr(float(c)) for c in v)  # noqa: E731
+        p = self.add("CARTESIAN_POINT('',%s)" % f(origin))
+        dz = self.add("DIRECTION('',%s)" % f(z))
+        dx = self.add("DIRECTION('',%s)" % f(x))
+        return self.add("AXIS2_PLACEMENT_3D('',#%d,#%d,#%d)" % (p, dz, dx))
+
+    def product(self, name, rep):
+        """A product with a definition and a SHAPE_DEFINITION_REPRESENTATION for `rep`."""
+        app = re.search(r"^#(\d+)\s*=\s*APPLICATION_CONTEXT\(", self.text, re.M).group(1)
+        pc = self.add("PRODUCT_CONTEXT('',#%s,'mechanical')" % app)
+        pr = self.add("PRODUCT('%s','%s','',(#%d))" % (name, name, pc))
+        pdf = self.add("PRODUCT_DEFINITION_FORMATION('','',#%d)" % pr)
+        pdc = self.add("PRODUCT_DEFINITION_CONTEXT('part definition',#%s,'design')" % app)
+        pd = self.add("PRODUCT_DEFINITION('design','',#%d,#%d)" % (pdf, pdc))
+        pds = self.add("PRODUCT_DEFINITION_SHAPE('','',#%d)" % pd)
+        return self.add("SHAPE_DEFINITION_REPRESENTATION(#%d,#%d)" % (pds, rep))
+
+    def result(self):
+        i = self.text.rindex("ENDSEC;", 0, self.text.index("END-ISO-10303-21"))
+        return self.text[:i] + "\n".join(self.new) + "\n" + self.text[i:]
+
+
+def mapped_item_text(part_text, part_is_root):
+    t = StepText(part_text)
+    sdr = re.search(r"^#(\d+)\s*=\s*SHAPE_DEFINITION_REPRESENTATION\(#(\d+),#(\d+)\);", t.text, re.M)
+    part = sdr.group(3)
+    ctx = re.search(r"^#%s\s*=\s*ADVANCED_BREP_SHAPE_REPRESENTATION\('',\(.*\),#(\d+)\);" % part,
+                    t.text, re.M).group(1)
+    # The part's map: origin not the identity (a frame at (10, 5, 0) turned 90° about z).
+    part_map = t.add("REPRESENTATION_MAP(#%d,#%s)" % (t.placement((10.0, 5.0, 0.0), x=(0.0, 1.0, 0.0)), part))
+    sub_axis = t.placement((0.0, 0.0, 0.0))
+    mi1 = t.add("MAPPED_ITEM('pin 1',#%d,#%d)" % (part_map, t.placement((0.0, 0.0, 0.0))))
+    mi2 = t.add("MAPPED_ITEM('pin 2',#%d,#%d)" % (
+        part_map, t.placement((150.0, 20.0, 30.0), z=(0.0, 1.0, 0.0), x=(1.0, 0.0, 0.0))))
+    sub = t.add("SHAPE_REPRESENTATION('pair',(#%d,#%d,#%d),#%s)" % (sub_axis, mi1, mi2, ctx))
+    sub_map = t.add("REPRESENTATION_MAP(#%d,#%d)" % (t.placement((0.0, -20.0, 0.0)), sub))
+    top_axis = t.placement((0.0, 0.0, 0.0))
+    mi3 = t.add("MAPPED_ITEM('pair 1',#%d,#%d)" % (sub_map, t.placement((0.0, 0.0, 0.0))))
+    mi4 = t.add("MAPPED_ITEM('pair 2',#%d,#%d)" % (
+        sub_map, t.placement((0.0, 300.0, 100.0), z=(0.6, 0.0, 0.8), x=(0.8, 0.0, -0.6))))
+    mi5 = t.add("MAPPED_ITEM('single',#%d,#%d)" % (
+        part_map, t.placement((-200.0, 0.0, 0.0), z=(0.0, 0.0, -1.0), x=(0.0, 1.0, 0.0))))
+    top = t.add("SHAPE_REPRESENTATION('assembly',(#%d,#%d,#%d,#%d),#%s)" % (top_axis, mi3, mi4, mi5, ctx))
+    if part_is_root:
+        t.product("assembly", top)
+    else:
+        t.text = t.text.replace(sdr.group(0), "#%s = SHAPE_DEFINITION_REPRESENTATION(#%s,#%d);"
+                                % (sdr.group(1), sdr.group(2), top))
+    return t.result()
+
+
+def write_mapped_items(out_dir):
+    with tempfile.TemporaryDirectory() as d:
+        part = os.path.join(d, "part.stp")
+        write_part_step(part)
+        with open(part, newline="") as fh:
+            text = fh.read()
+    for name, root in (("mapped_item.stp", False), ("mapped_item_root.stp", True)):
+        path = os.path.join(out_dir, name)
+        with open(path, "w", newline="") as fh:
+            fh.write(mapped_item_text(text, root))
+        topo.fix_step_header(path)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--out-dir", default=os.path.normpath(os.path.join(HERE, "..", "..", "samples")))
+    a = ap.parse_args()
+    os.makedirs(a.out_dir, exist_ok=True)
+    write_mapped_items(a.out_dir)
+
+
+if __name__ == "__main__":
+    main()
