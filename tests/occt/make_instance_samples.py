@@ -28,13 +28,19 @@ SHAPE_DEFINITION_REPRESENTATION is pointed at the new top representation.
 
   subfigure.igs
       IGES 5.3 §4.74 (308 subfigure definition) and §4.137 (408 singular subfigure
-      instance): the plate written by OCCT in IGES faces mode (144 trimmed surfaces with
-      142 curves on surface, millimetres) is made the content of a 308 `PART`, with every
-      entity marked physically dependent; a second 308 `PAIR` (depth 2) holds two 408
-      instances of `PART` (one carrying a 124 rotation, one with scale 0.5), and two 408s
-      of `PAIR` at the top (one with a 124 transform, one with scale 2) make 4 placed
-      copies. The file is made by rewriting OCCT's IGES text (no OCCT writer emits 308 /
-      408) with cadmorph's own record layout rules (64-column parameter data, DE pointers).
+      instance), as a writer that keeps repeated parts as subfigures makes them: the plate
+      in IGES faces mode (OCCT's 402 group of 144 trimmed surfaces on 108 planes and a 120
+      surface of revolution, 142 curves on surface, millimetres) is the content of a 308
+      `PART` (depth 0); a 308 `PAIR` (depth 1) holds two 408 instances of `PART` (one
+      carrying a 124 rotation and translation, one with scale 0.5 and a translation), and
+      two 408s of `PAIR` at the top (one with a 124 rotation about a diagonal, one with
+      scale 2) make 4 placed copies, 28 faces. Built with OCCT's own IGES entity classes
+      (IGESBasic_SubfigureDef, IGESBasic_SingularSubfigure, IGESGeom_TransformationMatrix)
+      added to the model IGESControl_Writer made for the plate, so OCCT's writer computes
+      the directory entries and the physically dependent status of the definitions' content.
+  subfigure_uninstanced.igs
+      The plate's 308 `PART` alone, instanced by no 408: OCCT reads it (a root of the
+      reference graph) as 7 unplaced faces.
 
 The OCCT references (F.ref.json) are made afterwards with `occt_ref.py regen`, the seam
 references with `topo_check.py`.
@@ -147,12 +153,81 @@ def write_mapped_items(out_dir):
         topo.fix_step_header(path)
 
 
+# ---------------------------------------------------------------------------------------
+# IGES: 308 / 408
+# ---------------------------------------------------------------------------------------
+
+def _matrix(t):
+    from OCP.IGESGeom import IGESGeom_TransformationMatrix
+    from OCP.TColStd import TColStd_HArray2OfReal
+    a = TColStd_HArray2OfReal(1, 3, 1, 4)
+    for i in range(3):
+        for j in range(4):
+            a.SetValue(i + 1, j + 1, t.Value(i + 1, j + 1))
+    m = IGESGeom_TransformationMatrix()
+    m.Init(a)
+    return m
+
+
+def _subfigure(name, depth, members):
+    from OCP.IGESBasic import IGESBasic_SubfigureDef
+    from OCP.IGESData import IGESData_HArray1OfIGESEntity
+    arr = IGESData_HArray1OfIGESEntity(1, len(members))
+    for k, e in enumerate(members):
+        arr.SetValue(k + 1, e)
+    d = IGESBasic_SubfigureDef()
+    d.Init(depth, TCollection_HAsciiString(name), arr)
+    return d
+
+
+def _instance(definition, move, scale=None, trsf=None):
+    from OCP.IGESBasic import IGESBasic_SingularSubfigure
+    from OCP.gp import gp_XYZ
+    i = IGESBasic_SingularSubfigure()
+    i.Init(definition, gp_XYZ(*move), scale is not None, 1.0 if scale is None else scale)
+    if trsf is not None:
+        i.InitTransf(_matrix(trsf))
+    return i
+
+
+def write_subfigures(path, instanced=True):
+    IGESControl_Controller.Init_s()
+    Interface_Static.SetCVal_s("write.iges.header.author", "occref")
+    Interface_Static.SetCVal_s("write.iges.header.company", "occref")
+    Interface_Static.SetIVal_s("write.iges.brep.mode", 0)
+    w = IGESControl_Writer("MM", 0)
+    gs = w.Model().GlobalSection()
+    gs.SetAuthorName(TCollection_HAsciiString("occref"))
+    gs.SetCompanyName(TCollection_HAsciiString("occref"))
+    w.Model().SetGlobalSection(gs)
+    w.AddShape(topo.plate())
+    m = w.Model()
+    groups = [m.Value(i) for i in range(1, m.NbEntities() + 1) if m.Value(i).TypeNumber() == 402]
+    assert len(groups) == 1, "OCCT writes the plate's faces as one 402 group"
+    part = _subfigure("PART", 0, groups)
+    entities = [part]
+    if instanced:
+        a = _instance(part, (0.0, 0.0, 0.0), trsf=topo.trsf((0, 0, 1), 30.0, (5.0, 10.0, 0.0)))
+        b = _instance(part, (0.0, 80.0, 0.0), scale=0.5)
+        pair = _subfigure("PAIR", 1, [a, b])
+        c = _instance(pair, (0.0, 0.0, 0.0), trsf=topo.trsf((1, 1, 0), 90.0, (200.0, 0.0, 50.0)))
+        d = _instance(pair, (-300.0, 20.0, 0.0), scale=2.0)
+        entities += [a, b, pair, c, d]
+    for e in entities:
+        w.AddEntity(e)
+    w.ComputeModel()
+    assert w.Write(path), path
+    topo.fix_iges_header(path)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out-dir", default=os.path.normpath(os.path.join(HERE, "..", "..", "samples")))
     a = ap.parse_args()
     os.makedirs(a.out_dir, exist_ok=True)
     write_mapped_items(a.out_dir)
+    write_subfigures(os.path.join(a.out_dir, "subfigure.igs"))
+    write_subfigures(os.path.join(a.out_dir, "subfigure_uninstanced.igs"), instanced=False)
 
 
 if __name__ == "__main__":
