@@ -279,7 +279,8 @@ impl CadDocument for Document {
         }
         let id = de(face.surface_entity)?;
         self.replace_with_bspline(id).map_err(err)?;
-        Ok(self.surface(id).map_err(err)?.surface)
+        // Placed where the face is (a 408 instance's placement).
+        Ok(self.surface(id).map_err(err)?.surface.transformed(&face.placement))
     }
 
     fn set_face_surface(&mut self, face: &Face, s: &NurbsSurface) -> cadmorph_brep::Result<bool> {
