@@ -19,6 +19,10 @@ Writes, deterministically (fixed header dates and authors):
       The same, except that the part's representation keeps the SHAPE_DEFINITION_REPRESENTATION
       OCCT wrote for it (so its product is a root too), and a second product carries the
       `assembly` representation: does OCCT read the part once more, unplaced?
+  mapped_item_inch.stp
+      mapped_item.stp with the top representation in an inch context (a copy of OCCT's
+      millimetre context with a CONVERSION_BASED_UNIT inch): the MAPPED_ITEM targets of
+      `assembly` are inches, the origins of the maps millimetres.
 
 No OCCT writer emits MAPPED_ITEM for placed parts (STEPCAFControl_Writer writes
 NEXT_ASSEMBLY_USAGE_OCCURRENCE / CONTEXT_DEPENDENT_SHAPE_REPRESENTATION), so both files are
@@ -111,12 +115,26 @@ class StepText:
         return self.text[:i] + "\n".join(self.new) + "\n" + self.text[i:]
 
 
-def mapped_item_text(part_text, part_is_root):
+def inch_context(t, ctx):
+    """A copy of context `ctx` (OCCT's millimetre context) in inches."""
+    m = re.search(r"^#%s\s*=\s*\(.*?GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT\(\(#(\d+)\)\)\s*"
+                  r"GLOBAL_UNIT_ASSIGNED_CONTEXT\s*\(\(#(\d+),#(\d+),#(\d+)\)\)" % ctx, t.text, re.M | re.S)
+    unc, mm, angle, solid = m.groups()
+    exps = t.add("DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.)")
+    measure = t.add("LENGTH_MEASURE_WITH_UNIT(25.4,#%s)" % mm)
+    inch = t.add("( CONVERSION_BASED_UNIT('INCH',#%d) LENGTH_UNIT() NAMED_UNIT(#%d) )" % (measure, exps))
+    return t.add("( GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#%s)) "
+                 "GLOBAL_UNIT_ASSIGNED_CONTEXT((#%d,#%s,#%s)) REPRESENTATION_CONTEXT('inch','') )"
+                 % (unc, inch, angle, solid))
+
+
+def mapped_item_text(part_text, part_is_root, inch_top=False):
     t = StepText(part_text)
     sdr = re.search(r"^#(\d+)\s*=\s*SHAPE_DEFINITION_REPRESENTATION\(#(\d+),#(\d+)\);", t.text, re.M)
     part = sdr.group(3)
     ctx = re.search(r"^#%s\s*=\s*ADVANCED_BREP_SHAPE_REPRESENTATION\('',\(.*\),#(\d+)\);" % part,
                     t.text, re.M).group(1)
+    top_ctx = inch_context(t, ctx) if inch_top else ctx
     # The part's map: origin not the identity (a frame at (10, 5, 0) turned 90° about z).
     part_map = t.add("REPRESENTATION_MAP(#%d,#%s)" % (t.placement((10.0, 5.0, 0.0), x=(0.0, 1.0, 0.0)), part))
     sub_axis = t.placement((0.0, 0.0, 0.0))
@@ -131,7 +149,7 @@ def mapped_item_text(part_text, part_is_root):
         sub_map, t.placement((0.0, 300.0, 100.0), z=(0.6, 0.0, 0.8), x=(0.8, 0.0, -0.6))))
     mi5 = t.add("MAPPED_ITEM('single',#%d,#%d)" % (
         part_map, t.placement((-200.0, 0.0, 0.0), z=(0.0, 0.0, -1.0), x=(0.0, 1.0, 0.0))))
-    top = t.add("SHAPE_REPRESENTATION('assembly',(#%d,#%d,#%d,#%d),#%s)" % (top_axis, mi3, mi4, mi5, ctx))
+    top = t.add("SHAPE_REPRESENTATION('assembly',(#%d,#%d,#%d,#%d),#%s)" % (top_axis, mi3, mi4, mi5, top_ctx))
     if part_is_root:
         t.product("assembly", top)
     else:
@@ -146,10 +164,11 @@ def write_mapped_items(out_dir):
         write_part_step(part)
         with open(part, newline="") as fh:
             text = fh.read()
-    for name, root in (("mapped_item.stp", False), ("mapped_item_root.stp", True)):
+    for name, root, inch in (("mapped_item.stp", False, False), ("mapped_item_root.stp", True, False),
+                             ("mapped_item_inch.stp", False, True)):
         path = os.path.join(out_dir, name)
         with open(path, "w", newline="") as fh:
-            fh.write(mapped_item_text(text, root))
+            fh.write(mapped_item_text(text, root, inch))
         topo.fix_step_header(path)
 
 

@@ -123,6 +123,12 @@ fn eval_file_params(w: &WorldSurface, u: f64, v: f64) -> (Point3<f64>, Vector3<f
 }
 
 fn occt_matches_analytic_faces(name: &str) -> usize {
+    occt_matches_analytic_faces_in(name, None)
+}
+
+/// [`occt_matches_analytic_faces`] with OCCT's results in `unit` (`occt_ref.py --unit`)
+/// rather than the file's: for files whose representations use several units.
+fn occt_matches_analytic_faces_in(name: &str, unit: Option<&str>) -> usize {
     let doc = load(name);
     let faces = doc.faces().unwrap();
     let worlds: Vec<WorldSurface> = faces.iter().map(|f| doc.face_nurbs(f).unwrap()).collect();
@@ -146,7 +152,14 @@ fn occt_matches_analytic_faces(name: &str) -> usize {
     let dir = scratch.dir();
     let req = dir.join("request.json");
     std::fs::write(&req, serde_json::json!({ "faces": request }).to_string()).unwrap();
-    let (code, out) = cadmorph_testkit::harness::validate(&cadmorph_testkit::sample(name), Some(&req));
+    let (code, out) = match unit {
+        None => cadmorph_testkit::harness::validate(&cadmorph_testkit::sample(name), Some(&req)),
+        Some(unit) => {
+            let (file, req) = (cadmorph_testkit::sample(name), req.to_string_lossy().into_owned());
+            let file = file.to_string_lossy().into_owned();
+            cadmorph_testkit::harness::run(&["validate", &file, "--eval", &req, "--unit", unit])
+        }
+    };
     assert_eq!(code, 0, "{out}");
     let size = model_size(worlds.iter().flat_map(|w| w.surface.control_points().to_vec()));
     let mut n = 0;
@@ -220,6 +233,10 @@ fn assembly_faces_match_occt_evaluation() {
 fn mapped_item_faces_match_occt_evaluation() {
     assert_eq!(occt_matches_analytic_faces("mapped_item.stp"), 35 * 25);
     assert_eq!(occt_matches_analytic_faces("mapped_item_root.stp"), 42 * 25);
+    // The top representation in inches, the pair and the part in millimetres: the
+    // targets placed in inches, the origins in millimetres (OCCT reports the file in
+    // inches, cadmorph in millimetres, the unit of the first context: compared in mm).
+    assert_eq!(occt_matches_analytic_faces_in("mapped_item_inch.stp", Some("MM")), 35 * 25);
 }
 
 #[test]
