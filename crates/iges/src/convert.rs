@@ -997,7 +997,8 @@ impl Document {
     /// Every face of the model in entity order: each 144, 143 and 510, and each
     /// independent surface entity no face uses; faces inside 308 subfigure definitions
     /// once per 408 instance that places them (see [`try_faces`](Self::try_faces)).
-    /// Instances that cannot be read are left out (`try_faces` names them).
+    /// Instances that cannot be read are left out (`try_faces` names them); groups
+    /// nested past the limit (a 402 that contains itself) leave no face at all.
     pub fn faces(&self) -> Vec<FaceRef> {
         self.faces_impl(false).unwrap_or_default()
     }
@@ -1052,7 +1053,7 @@ impl Document {
         let mut inside: std::collections::HashSet<EntityId> = std::collections::HashSet::new();
         let mut instanced: std::collections::HashSet<EntityId> = std::collections::HashSet::new();
         let mut roots: Vec<EntityId> = Vec::new();
-        let mut walk = Subfigures { budget: MAX_INSTANCES, strict };
+        let mut walk = Subfigures { budget: MAX_INSTANCES, depth: 0, strict };
         for e in self.entities.iter().filter(|e| matches!(e.entity_type(), 308 | 408)) {
             match self.view(e.id()) {
                 Ok(View::SubfigureDefinition(d)) => {
@@ -1177,6 +1178,8 @@ impl Document {
 struct Subfigures {
     /// Instances that may still be followed.
     budget: usize,
+    /// How deeply [`Subfigures::entity`] is nested now (groups in groups, instances).
+    depth: usize,
     /// Report broken instances (`false`: leave them out).
     strict: bool,
 }
@@ -1203,6 +1206,29 @@ impl Subfigures {
     /// met on the way are marked in `inside` when they belong to a definition (`stack`
     /// holds the 308s being read, outermost first).
     fn entity(
+        &mut self,
+        doc: &Document,
+        id: EntityId,
+        placement: Matrix4<f64>,
+        stack: &mut Vec<EntityId>,
+        out: &mut Vec<FaceRef>,
+        inside: &mut std::collections::HashSet<EntityId>,
+    ) -> Result<()> {
+        if self.depth >= 4 * MAX_DEPTH {
+            // Always an error: leaving the nesting out would keep its copies so far.
+            return Err(subfigure(
+                id,
+                "groups, solids and subfigures nested deeper than 256 (a 402 group that contains itself?)".into(),
+            ));
+        }
+        self.depth += 1;
+        let r = self.entity_at(doc, id, placement, stack, out, inside);
+        self.depth -= 1;
+        r
+    }
+
+    /// [`Subfigures::entity`] one level deeper.
+    fn entity_at(
         &mut self,
         doc: &Document,
         id: EntityId,
@@ -1258,7 +1284,7 @@ impl Subfigures {
                     Err(err) => return self.refuse(err),
                 };
                 let Some(budget) = self.budget.checked_sub(1) else {
-                    return self.refuse(subfigure(
+                    return Err(subfigure(
                         id,
                         "more than 100000 subfigure instances followed (nested instances multiply)".into(),
                     ));

@@ -285,4 +285,10 @@ fn subfigure_structures_that_cannot_be_read_name_the_entity() {
     assert!(matches!(e, Error::Subfigure { de: 147, .. }), "{e}");
     assert!(e.to_string().contains("contains itself (reached again inside DE 147)"), "{e}");
     eprintln!("{e}");
+    // The 308's 402 group lists itself: refused, not a stack overflow.
+    let doc = subfigure_with("402,7,3,19,35,57,73,95,111;", "402,7,1,19,35,57,73,95,111;");
+    let e = doc.try_faces().unwrap_err();
+    assert!(matches!(e, Error::Subfigure { de: 1, .. }), "{e}");
+    assert!(e.to_string().contains("nested deeper than 256"), "{e}");
+    assert!(doc.faces().is_empty());
 }
