@@ -24,7 +24,7 @@ fn convert_to(input: &Path, format: Format, iges_faces: cadmorph::IgesFaces, dir
 
 /// Every sample with faces: whole surfaces, trimmed faces (IGES 144, STEP loops inside
 /// the surface), B-rep solids (IGES 186, STEP MANIFOLD_SOLID_BREP), an assembly.
-const SAMPLES: [&str; 19] = [
+const SAMPLES: [&str; 20] = [
     "hull3.igs",
     "hull3_bare.igs",
     "hull3_defect.igs",
@@ -44,6 +44,7 @@ const SAMPLES: [&str; 19] = [
     "planing_hull.stp",
     "assembly_ap203.stp",
     "assembly_ap214.stp",
+    "mapped_item.stp",
 ];
 
 /// How closely a converted face's OCCT area must match the input's. `shaft.igs` (BladeX's

@@ -10,7 +10,8 @@ closed face, used by that one face twice, are not shared edges between faces). W
 file has no topology between faces (IGES 144 faces, bare surfaces: OCCT reads them as
 separate faces), the shared edges are those OCCT's sewing (BRepBuilderAPI_Sewing at
 1e-3 of the model size, the project's pairing tolerance) makes, mapped back to the faces
-as read.
+as read. In an IGES file with 408 subfigure instances each placed copy (each innermost
+compound of faces OCCT makes) is sewn on its own: edges never join two placements.
 
 Each shared edge is measured on the faces as read, by OCCT alone: N points along each
 face's own curve of the edge (ends included; the shared edge itself when the topology
@@ -71,7 +72,45 @@ def _index_of(face, faces):
     return None
 
 
-def shared_edges(faces, shape, size):
+def _instance_parts(shape):
+    """The faces of each placed copy of an IGES file with 408 singular subfigure
+    instances: the innermost compounds OCCT made that hold faces (a placed 308's 402
+    group, one per placement), as lists of faces. Sewing them one by one keeps edges
+    inside a placement, as cadmorph pairs them (never across instances); one sewing of
+    everything at the model's tolerance would join different placements and copies of
+    different scale."""
+    from OCP.TopAbs import TopAbs_COMPOUND, TopAbs_FACE
+    from OCP.TopoDS import TopoDS, TopoDS_Iterator
+    from OCP.TopExp import TopExp_Explorer
+    parts = []
+
+    def walk(s, loc):
+        it = TopoDS_Iterator(s)
+        kids = []
+        while it.More():
+            kids.append(it.Value())
+            it.Next()
+        if any(k.ShapeType() == TopAbs_COMPOUND for k in kids):
+            for k in kids:
+                if k.ShapeType() == TopAbs_COMPOUND:
+                    walk(k, loc)
+            loose = [k for k in kids if k.ShapeType() != TopAbs_COMPOUND]
+        else:
+            loose = kids
+        fs = []
+        for k in loose:
+            ex = TopExp_Explorer(k, TopAbs_FACE)
+            while ex.More():
+                fs.append(TopoDS.Face_s(ex.Current()))
+                ex.Next()
+        if fs:
+            parts.append(fs)
+
+    walk(shape, None)
+    return parts
+
+
+def shared_edges(faces, shape, size, parts=None):
     """[(edges of a, edges of b, a, b)]: each shared edge with the curves that stand for
     it on each face (the edge itself when the topology shares it; each face's own
     boundary edges that sewing merged into it otherwise), face indices into `faces`, and
@@ -92,6 +131,24 @@ def shared_edges(faces, shape, size):
     from OCP.TopAbs import TopAbs_EDGE
     from OCP.TopExp import TopExp_Explorer
     from OCP.TopoDS import TopoDS
+    if parts and len(parts) > 1:
+        out = []
+        for part in parts:
+            idx = [_index_of(f, faces) for f in part]
+            sub, _ = _sewn_pairs(part, size)
+            for ea, eb, a, b in sub:
+                out.append((ea, eb, idx[a], idx[b]) if idx[a] < idx[b] else (eb, ea, idx[b], idx[a]))
+        return out, True
+    return _sewn_pairs(faces, size)
+
+
+def _sewn_pairs(faces, size):
+    """Shared edges of `faces` after OCCT's sewing at 1e-3 of `size`, as in shared_edges."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_Sewing
+    from OCP.TopAbs import TopAbs_EDGE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+    pairs = []
     sew = BRepBuilderAPI_Sewing(1e-3 * size)
     for f in faces:
         sew.Add(f)
@@ -184,7 +241,12 @@ def check(path, n=50):
         raise SystemExit("%s: OCCT could not read it (%s)" % (path, loaded.info.get("read_status")))
     faces = loaded.faces()
     size = _shape_size(loaded.shape)
-    pairs, sewn = shared_edges(faces, loaded.shape, size)
+    parts = None
+    if loaded.format == "IGES":
+        model = loaded.reader.Model()
+        if any(model.Value(i).TypeNumber() == 408 for i in range(1, model.NbEntities() + 1)):
+            parts = _instance_parts(loaded.shape)
+    pairs, sewn = shared_edges(faces, loaded.shape, size, parts)
     edges = []
     for ea, eb, a, b in pairs:
         gap, length = measure(ea, eb, faces[a], faces[b], n)

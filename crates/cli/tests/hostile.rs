@@ -275,3 +275,45 @@ fn a_part_placed_twice_is_refused_by_the_morph_with_its_surface_and_faces() {
     assert_eq!(e.lines().count(), 1, "{e}");
     assert!(!Path::new(&out).exists());
 }
+
+#[test]
+fn a_part_placed_by_mapped_items_is_refused_by_the_morph() {
+    // MAPPED_ITEM placements of one representation: the same refusal as for assemblies.
+    let s = Scratch::new("mapped");
+    let out = s.path("out.stp");
+    let o = cadmorph(&["morph", "samples/mapped_item.stp", "--ffd", "tests/repro/fuzz_small.prm", "-o", &out]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("surface #32 (occurrence 2) is used by face #17 and face #17 (occurrence 2)"), "{e}");
+    assert!(e.contains("one part placed more than once"), "{e}");
+    assert!(!Path::new(&out).exists());
+    // `seams` and `info` see every placed face.
+    let o = cadmorph(&["info", "samples/mapped_item.stp"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("faces (35;"), "{}", String::from_utf8_lossy(&o.stdout));
+    let o = cadmorph(&["seams", "samples/mapped_item.stp"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("75 shared edges"), "{}", String::from_utf8_lossy(&o.stdout));
+}
+
+#[test]
+fn a_part_placed_by_subfigure_instances_is_refused_by_the_morph() {
+    // IGES 408 instances of one 308 definition: the same refusal as for STEP assemblies.
+    let s = Scratch::new("subfigure");
+    let out = s.path("out.igs");
+    let o = cadmorph(&["morph", "samples/subfigure.igs", "--ffd", "tests/repro/fuzz_small.prm", "-o", &out]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("surface DE 5 (occurrence 2) is used by face DE 3 and face DE 3 (occurrence 2)"), "{e}");
+    assert!(!Path::new(&out).exists());
+    let o = cadmorph(&["info", "samples/subfigure.igs"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("faces (28;"), "{}", String::from_utf8_lossy(&o.stdout));
+    // A 408 of something that is not a 308: a clear error naming it.
+    let text = std::fs::read_to_string(root().join("samples/subfigure.igs")).unwrap();
+    let bad = s.path("bad.igs");
+    std::fs::write(&bad, text.replace("408,155,0.,0.,0.,;", "408,111,0.,0.,0.,;")).unwrap();
+    let o = cadmorph(&["seams", &bad]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("entity DE 157: 408 instance of DE 111"), "{}", stderr(&o));
+}

@@ -110,6 +110,20 @@ impl Document {
     }
 }
 
+/// The inverse of a 408 placement, `None` for the identity; a singular one (scale 0) is
+/// refused naming `at`.
+fn local(placement: &Matrix4<f64>, at: EntityRef) -> cadmorph_brep::Result<Option<Matrix4<f64>>> {
+    if *placement == Matrix4::identity() {
+        return Ok(None);
+    }
+    placement.try_inverse().map(Some).ok_or_else(|| {
+        err(crate::Error::Transform {
+            de: u32::try_from(at.id).unwrap_or(u32::MAX),
+            reason: "the subfigure instances placing it have a singular matrix (scale 0)",
+        })
+    })
+}
+
 impl CadDocument for Document {
     fn format(&self) -> Format {
         Format::Iges
@@ -135,24 +149,25 @@ impl CadDocument for Document {
     fn faces(&self) -> cadmorph_brep::Result<FaceSet> {
         let reversed = self.reversed_faces();
         let mut out = FaceSet::default();
-        for f in Document::faces(self) {
+        for f in Document::try_faces(self).map_err(err)? {
             let t = self.entity(f.surface).map(|e| e.entity_type()).unwrap_or(0);
+            let entity = r(f.face).with_occurrence(f.occurrence);
             match self.face_surface(&f) {
                 Ok(es) => {
                     let (ud, vd) = es.surface.domain();
                     out.faces.push(Face {
-                        entity: r(f.face),
-                        surface_entity: r(f.surface),
+                        entity,
+                        surface_entity: r(f.surface).with_occurrence(f.occurrence),
                         parameter_box: ((*ud.start(), *ud.end()), (*vd.start(), *vd.end())),
                         surface: es.surface,
                         reversed: reversed.get(&f.face).copied().unwrap_or(false),
                         trimmed: f.trimmed,
                         kind: kind_of(t),
                         type_name: format!("IGES {t}"),
-                        placement: Matrix4::identity(),
+                        placement: f.placement,
                     });
                 }
-                Err(e) => out.skipped.push(Skipped { entity: r(f.face), reason: e.to_string() }),
+                Err(e) => out.skipped.push(Skipped { entity, reason: e.to_string() }),
             }
         }
         Ok(out)
@@ -166,6 +181,9 @@ impl CadDocument for Document {
             if face.entity == face.surface_entity {
                 continue;
             }
+            // A face placed by 408 instances: its curves placed alike, its edges and
+            // curves named at its occurrence (never shared with another placement).
+            let (at, placed) = (face.entity.occurrence, face.placement != Matrix4::identity());
             for bound in self.face_bounds(id).map_err(err)? {
                 let (label, curve, edge) = match bound {
                     FaceBound::Trim { domain: true, .. } | FaceBound::Trim { curve: None, .. } => continue,
@@ -189,16 +207,17 @@ impl CadDocument for Document {
                             }
                             _ => (*d.start(), *d.end()),
                         };
+                        let at = |id: EntityId| r(id).with_occurrence(at);
                         out.push(BoundCurve {
                             face: fi,
-                            label: r(label),
-                            edge: edge.as_ref().map(|(list, _, _)| r(*list)),
+                            label: at(label),
+                            edge: edge.as_ref().map(|(list, _, _)| at(*list)),
                             edge_index: edge.as_ref().map_or(0, |(_, index, _)| u32::try_from(*index).unwrap_or(0)),
-                            target: (pieces.len() == 1).then(|| r(*m)),
+                            target: (pieces.len() == 1).then(|| at(*m)),
                             piece,
-                            curve: c.clone(),
+                            curve: if placed { c.transformed(&face.placement) } else { c.clone() },
                             range,
-                            placement: Matrix4::identity(),
+                            placement: face.placement,
                         });
                         piece += 1;
                     }
@@ -260,14 +279,25 @@ impl CadDocument for Document {
         }
         let id = de(face.surface_entity)?;
         self.replace_with_bspline(id).map_err(err)?;
-        Ok(self.surface(id).map_err(err)?.surface)
+        // Placed where the face is (a 408 instance's placement).
+        Ok(self.surface(id).map_err(err)?.surface.transformed(&face.placement))
     }
 
     fn set_face_surface(&mut self, face: &Face, s: &NurbsSurface) -> cadmorph_brep::Result<bool> {
-        self.set_bspline_surface(de(face.surface_entity)?, s).map_err(err)
+        // A face placed by 408 instances goes back into its 308 definition's space.
+        match local(&face.placement, face.surface_entity)? {
+            Some(inv) => self.set_bspline_surface(de(face.surface_entity)?, &s.transformed(&inv)),
+            None => self.set_bspline_surface(de(face.surface_entity)?, s),
+        }
+        .map_err(err)
     }
 
     fn set_bound_curve(&mut self, b: &BoundCurve, c: &NurbsCurve) -> cadmorph_brep::Result<bool> {
+        // A curve placed by 408 instances goes back into its 308 definition's space.
+        if let Some(inv) = local(&b.placement, b.label)?.filter(|_| b.target.is_some()) {
+            let back = BoundCurve { curve: b.curve.transformed(&inv), placement: Matrix4::identity(), ..b.clone() };
+            return self.set_bound_curve(&back, &c.transformed(&inv));
+        }
         let Some(target) = b.target else { return Ok(false) };
         let written = self.set_bspline_curve(de(target)?, c).map_err(err)?;
         // A 504 edge's vertices (502 lists) follow its new curve, as STEP's do.

@@ -100,9 +100,9 @@ fn is_limit(e: &Error) -> bool {
 /// Margin added around boundary boxes of unbounded surfaces (fraction of the extent).
 const BOX_MARGIN: f64 = 0.01;
 
-/// A face of the model: the entity that makes it (144, 143, 510, or a bare surface) and
-/// its underlying surface entity.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// A face of the model: the entity that makes it (144, 143, 510, or a bare surface), its
+/// underlying surface entity, and where 408 subfigure instances place it.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FaceRef {
     /// The face entity (144, 143, 510) or the bare surface.
     pub face: EntityId,
@@ -110,7 +110,19 @@ pub struct FaceRef {
     pub surface: EntityId,
     /// Whether the face trims its surface (144 with boundaries, 143, 510).
     pub trimmed: bool,
+    /// Which placement of the face entity this is, 0-based in list order: 0 unless 408
+    /// singular subfigure instances (IGES 5.3 §4.137) place its 308 definition more
+    /// than once.
+    pub occurrence: u32,
+    /// Model space of the face's 308 definition to model space: the chain of 408
+    /// instances that place it (each `M · translate(X, Y, Z) · scale(S)`, `M` the 408's
+    /// own 124 matrix), the identity for faces outside subfigures. The face's and its
+    /// surface's own 124 matrices come before it.
+    pub placement: Matrix4<f64>,
 }
+
+/// Most 408 instances followed in one file (nested instances multiply).
+const MAX_INSTANCES: usize = 100_000;
 
 /// What [`Document::surfaces`] reports for one face's surface.
 #[derive(Debug, Clone, PartialEq)]
@@ -998,39 +1010,129 @@ impl Document {
     }
 
     /// Every face of the model in entity order: each 144, 143 and 510, and each
-    /// independent surface entity no face uses.
+    /// independent surface entity no face uses; faces inside 308 subfigure definitions
+    /// once per 408 instance that places them (see [`try_faces`](Self::try_faces)).
+    /// Instances that cannot be read are left out (`try_faces` names them); groups
+    /// nested past the limit (a 402 that contains itself) leave no face at all.
     pub fn faces(&self) -> Vec<FaceRef> {
+        self.faces_impl(false).unwrap_or_default()
+    }
+
+    /// Every face of the model, as OCCT 7.9's `IGESControl_Reader` lists them: each 144,
+    /// 143 and 510 and each independent surface entity no face uses, in entity order;
+    /// but the faces inside a 308 subfigure definition (IGES 5.3 §4.74: its entities,
+    /// 402 groups, 186 solids and 514 shells among them, and nested 408s) are not listed
+    /// on their own. They come once per 408 singular subfigure instance (§4.137) that
+    /// places the definition, at the instance's place in entity order, with the
+    /// instance's placement and a distinct [`FaceRef::occurrence`]: nested instances
+    /// multiply. A 308 that no 408 instances is read once, unplaced, as OCCT does (it
+    /// is a root of the file's reference graph), and a 308 listed inside another 308 as
+    /// part of it.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Subfigure`] naming the 408 or 308: a 408 whose definition is not a 308,
+    /// a 308 that contains itself (directly or through instances), nesting deeper than
+    /// 64, more than 100000 instances followed; [`Error::Transform`] for a 408's bad
+    /// matrix chain; the read errors of the 308s and 408s.
+    pub fn try_faces(&self) -> Result<Vec<FaceRef>> {
+        self.faces_impl(true)
+    }
+
+    fn faces_impl(&self, strict: bool) -> Result<Vec<FaceRef>> {
         let mut used = vec![false; self.entities.len()];
-        let mut faces = Vec::new();
+        let mut plain = Vec::new();
         for e in &self.entities {
-            // A face whose record does not read is listed with itself as surface, so that
-            // converting it reports the error.
-            if !matches!(e.entity_type(), 143 | 144 | 510) {
-                continue;
-            }
-            let surface = match self.view(e.id()) {
-                Ok(View::TrimmedSurface(t)) => Some((t.surface, !t.outer_is_domain || !t.inner.is_empty())),
-                Ok(View::BoundedSurface(b)) => Some((b.surface, true)),
-                Ok(View::Face(f)) => Some((f.surface, true)),
-                _ => Some((e.id(), true)),
-            };
-            if let Some((s, trimmed)) = surface {
-                used[s.index()] = true;
-                faces.push(FaceRef { face: e.id(), surface: s, trimmed });
+            if let Some(f) = self.face_of(e.id()) {
+                if f.face != f.surface {
+                    used[f.surface.index()] = true;
+                }
+                if matches!(e.entity_type(), 143 | 144 | 510) {
+                    plain.push(f);
+                }
             }
         }
         for e in &self.entities {
             let is_surface = matches!(e.entity_type(), 108 | 114 | 118 | 120 | 122 | 128 | 140 | 190..=198);
             if is_surface && !used[e.id().index()] && e.directory().status.subordinate == 0 {
-                faces.push(FaceRef { face: e.id(), surface: e.id(), trimmed: false });
+                plain.push(FaceRef {
+                    face: e.id(),
+                    surface: e.id(),
+                    trimmed: false,
+                    occurrence: 0,
+                    placement: Matrix4::identity(),
+                });
             }
         }
-        faces.sort_by_key(|f| f.face);
-        faces
+        // Subfigures: what each 308 holds, which 308s are instanced, which 408s are inside one.
+        let mut inside: std::collections::HashSet<EntityId> = std::collections::HashSet::new();
+        let mut instanced: std::collections::HashSet<EntityId> = std::collections::HashSet::new();
+        let mut roots: Vec<EntityId> = Vec::new();
+        let mut walk = Subfigures { budget: MAX_INSTANCES, depth: 0, strict };
+        for e in self.entities.iter().filter(|e| matches!(e.entity_type(), 308 | 408)) {
+            match self.view(e.id()) {
+                Ok(View::SubfigureDefinition(d)) => {
+                    let mut content = Vec::new();
+                    walk.content(self, &d.entities, &mut vec![e.id()], &mut content, &mut inside)?;
+                }
+                Ok(View::SubfigureInstance(i)) => {
+                    instanced.insert(i.definition);
+                }
+                Ok(_) => {}
+                Err(err) if strict => return Err(err),
+                Err(_) => {}
+            }
+        }
+        for e in self.entities.iter().filter(|e| matches!(e.entity_type(), 308 | 408)) {
+            let root = match e.entity_type() {
+                408 => !inside.contains(&e.id()),
+                _ => !instanced.contains(&e.id()) && !inside.contains(&e.id()),
+            };
+            if root {
+                roots.push(e.id());
+            }
+        }
+        let mut faces: Vec<(EntityId, FaceRef)> =
+            plain.into_iter().filter(|f| !inside.contains(&f.face)).map(|f| (f.face, f)).collect();
+        for root in roots {
+            let mut placed = Vec::new();
+            walk.entity(self, root, Matrix4::identity(), &mut Vec::new(), &mut placed, &mut inside)?;
+            faces.extend(placed.into_iter().map(|f| (root, f)));
+        }
+        faces.sort_by_key(|f| f.0);
+        let mut count: std::collections::HashMap<EntityId, u32> = std::collections::HashMap::new();
+        Ok(faces
+            .into_iter()
+            .map(|(_, mut f)| {
+                let n = count.entry(f.face).or_insert(0);
+                f.occurrence = *n;
+                *n += 1;
+                f
+            })
+            .collect())
+    }
+
+    /// The face that entity `id` makes on its own: a 144, 143 or 510 with its surface (a
+    /// record that does not read is listed with itself as surface, so that converting it
+    /// reports the error), or a bare surface entity.
+    fn face_of(&self, id: EntityId) -> Option<FaceRef> {
+        let e = self.entity(id).ok()?;
+        let (surface, trimmed) = match e.entity_type() {
+            143 | 144 | 510 => match self.view(id) {
+                Ok(View::TrimmedSurface(t)) => (t.surface, !t.outer_is_domain || !t.inner.is_empty()),
+                Ok(View::BoundedSurface(b)) => (b.surface, true),
+                Ok(View::Face(f)) => (f.surface, true),
+                _ => (id, true),
+            },
+            108 | 114 | 118 | 120 | 122 | 128 | 140 | 190..=198 => (id, false),
+            _ => return None,
+        };
+        Some(FaceRef { face: id, surface, trimmed, occurrence: 0, placement: Matrix4::identity() })
     }
 
     /// The surface of a face in model space (the face's and the surface's transformations
-    /// applied), exact, with OCCT's parameter maps.
+    /// applied, then the face's 408 [`placement`](FaceRef::placement)), exact, with
+    /// OCCT's parameter maps.
     ///
     /// # Errors
     ///
@@ -1039,7 +1141,11 @@ impl Document {
         self.surface_chain(face.face)?;
         self.surface_chain(face.surface)?;
         if face.face == face.surface {
-            return self.surface(face.surface);
+            let mut s = self.surface(face.surface)?;
+            if face.placement != Matrix4::identity() {
+                s.surface.transform_by(&face.placement);
+            }
+            return Ok(s);
         }
         let hint = self.boundary_points(face.face)?;
         let m = self.transform(face.face)?;
@@ -1048,6 +1154,7 @@ impl Document {
         let local: Vec<Point3<f64>> = hint.iter().map(|p| inv.transform_point(p)).collect();
         let visits = Cell::new(MAX_CURVE_VISITS);
         let mut s = self.child_surface(face.surface, &local, Nest::new(&visits))?;
+        let m = face.placement * m;
         if m != Matrix4::identity() {
             s.surface.transform_by(&m);
         }
@@ -1080,6 +1187,197 @@ impl Document {
         }
         Ok(pts)
     }
+}
+
+/// The walk through 308 subfigure definitions and 408 instances (IGES 5.3 §4.74, §4.137).
+struct Subfigures {
+    /// Instances that may still be followed.
+    budget: usize,
+    /// How deeply [`Subfigures::entity`] is nested now (groups in groups, instances).
+    depth: usize,
+    /// Report broken instances (`false`: leave them out).
+    strict: bool,
+}
+
+impl Subfigures {
+    /// Marks in `inside` everything definition members reach (faces, groups, shells,
+    /// solids, instances), and lists the faces of `members` in `out` unplaced.
+    fn content(
+        &mut self,
+        doc: &Document,
+        members: &[EntityId],
+        stack: &mut Vec<EntityId>,
+        out: &mut Vec<FaceRef>,
+        inside: &mut std::collections::HashSet<EntityId>,
+    ) -> Result<()> {
+        for &m in members {
+            inside.insert(m);
+            self.entity(doc, m, Matrix4::identity(), stack, out, inside)?;
+        }
+        Ok(())
+    }
+
+    /// The faces entity `id` holds, placed by `placement`, appended to `out`; entities
+    /// met on the way are marked in `inside` when they belong to a definition (`stack`
+    /// holds the 308s being read, outermost first).
+    fn entity(
+        &mut self,
+        doc: &Document,
+        id: EntityId,
+        placement: Matrix4<f64>,
+        stack: &mut Vec<EntityId>,
+        out: &mut Vec<FaceRef>,
+        inside: &mut std::collections::HashSet<EntityId>,
+    ) -> Result<()> {
+        if self.depth >= 4 * MAX_DEPTH {
+            // Always an error: leaving the nesting out would keep its copies so far.
+            return Err(subfigure(
+                id,
+                "groups, solids and subfigures nested deeper than 256 (a 402 group that contains itself?)".into(),
+            ));
+        }
+        self.depth += 1;
+        let r = self.entity_at(doc, id, placement, stack, out, inside);
+        self.depth -= 1;
+        r
+    }
+
+    /// [`Subfigures::entity`] one level deeper.
+    fn entity_at(
+        &mut self,
+        doc: &Document,
+        id: EntityId,
+        placement: Matrix4<f64>,
+        stack: &mut Vec<EntityId>,
+        out: &mut Vec<FaceRef>,
+        inside: &mut std::collections::HashSet<EntityId>,
+    ) -> Result<()> {
+        let Ok(e) = doc.entity(id) else { return Ok(()) };
+        let in_definition = !stack.is_empty();
+        let mark = |inside: &mut std::collections::HashSet<EntityId>, x: EntityId| {
+            if in_definition {
+                inside.insert(x);
+            }
+        };
+        match e.entity_type() {
+            143 | 144 | 510 | 108 | 114 | 118 | 120 | 122 | 128 | 140 | 190..=198 => {
+                if let Some(mut f) = doc.face_of(id) {
+                    mark(inside, id);
+                    f.placement = placement;
+                    out.push(f);
+                }
+            }
+            402 => {
+                if let Ok(View::Associativity(a)) = doc.view(id) {
+                    for m in a.members {
+                        mark(inside, m);
+                        self.entity(doc, m, placement, stack, out, inside)?;
+                    }
+                }
+            }
+            186 => {
+                if let Ok(View::ManifoldSolid(s)) = doc.view(id) {
+                    for sh in std::iter::once(s.shell).chain(s.voids.iter().map(|v| v.0)) {
+                        mark(inside, sh);
+                        self.entity(doc, sh, placement, stack, out, inside)?;
+                    }
+                }
+            }
+            514 => {
+                if let Ok(View::Shell(s)) = doc.view(id) {
+                    for (f, _) in s.faces {
+                        mark(inside, f);
+                        self.entity(doc, f, placement, stack, out, inside)?;
+                    }
+                }
+            }
+            308 => self.definition(doc, id, placement, stack, out, inside)?,
+            408 => {
+                let i = match doc.view(id) {
+                    Ok(View::SubfigureInstance(i)) => i,
+                    Ok(_) => return Ok(()),
+                    Err(err) => return self.refuse(err),
+                };
+                let Some(budget) = self.budget.checked_sub(1) else {
+                    return Err(subfigure(
+                        id,
+                        "more than 100000 subfigure instances followed (nested instances multiply)".into(),
+                    ));
+                };
+                self.budget = budget;
+                match doc.entity(i.definition).map(|d| (d.entity_type(), d.form())) {
+                    Ok((308, _)) => {}
+                    Ok((t, f)) => {
+                        return self.refuse(subfigure(
+                            id,
+                            format!(
+                                "408 instance of DE {} (type {t} form {f}), which is not a 308 subfigure definition",
+                                i.definition.0
+                            ),
+                        ))
+                    }
+                    Err(err) => return self.refuse(err),
+                }
+                let m = match doc.transform(id) {
+                    Ok(m) => m,
+                    Err(err) => return self.refuse(err),
+                };
+                let local = m * Matrix4::new_translation(&i.translation.coords) * Matrix4::new_scaling(i.scale);
+                self.definition(doc, i.definition, placement * local, stack, out, inside)?;
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// The faces of 308 definition `id` placed by `placement`.
+    fn definition(
+        &mut self,
+        doc: &Document,
+        id: EntityId,
+        placement: Matrix4<f64>,
+        stack: &mut Vec<EntityId>,
+        out: &mut Vec<FaceRef>,
+        inside: &mut std::collections::HashSet<EntityId>,
+    ) -> Result<()> {
+        if let Some(&last) = stack.last().filter(|_| stack.contains(&id)) {
+            return self.refuse(subfigure(
+                id,
+                format!("308 subfigure definition contains itself (reached again inside DE {})", last.0),
+            ));
+        }
+        if stack.len() >= MAX_DEPTH {
+            return self.refuse(subfigure(id, "subfigures nested deeper than 64".into()));
+        }
+        let d = match doc.view(id) {
+            Ok(View::SubfigureDefinition(d)) => d,
+            Ok(_) => return Ok(()),
+            Err(err) => return self.refuse(err),
+        };
+        stack.push(id);
+        let r = (|| {
+            for m in d.entities {
+                inside.insert(m);
+                self.entity(doc, m, placement, stack, out, inside)?;
+            }
+            Ok(())
+        })();
+        stack.pop();
+        r
+    }
+
+    /// `err` when strict, else nothing (the instance is left out).
+    fn refuse(&self, err: Error) -> Result<()> {
+        if self.strict {
+            Err(err)
+        } else {
+            Ok(())
+        }
+    }
+}
+
+fn subfigure(id: EntityId, reason: String) -> Error {
+    Error::Subfigure { de: id.0, reason }
 }
 
 /// Origin of a frame: a 116 entity or a point already known.

@@ -206,6 +206,17 @@ pub enum Error {
         /// Why.
         reason: &'static str,
     },
+    /// A subfigure structure that cannot be read (IGES 5.3 §4.74 type 308, §4.137 type
+    /// 408): an instance of an entity that is not a 308 definition, a definition that
+    /// contains itself (directly or through its instances), nesting deeper than 64 or
+    /// more placed entities than the file can describe.
+    #[error("entity DE {de}: {reason}")]
+    Subfigure {
+        /// The 408 instance or 308 definition where reading stopped.
+        de: u32,
+        /// Why, naming the other entity involved.
+        reason: String,
+    },
     /// An edit was refused (wrong sizes, non-finite values).
     #[error("entity DE {de}: edit refused: {reason}")]
     Edit {
@@ -263,6 +274,10 @@ mod tests {
             Error::Unsupported { de: 9, entity_type: 140, form: 0, reason: "ellipse not in standard position" },
             Error::Transform { de: 9, reason: "transformation chain loops" },
             Error::Edit { de: 9, reason: "expected 12 points, found 11".into() },
+            Error::Subfigure {
+                de: 9,
+                reason: "408 instance of DE 7 (type 110), which is not a 308 subfigure definition".into(),
+            },
         ];
         for e in &all {
             let text = e.to_string();

@@ -16,6 +16,8 @@
 //!   model units (124 transformation chains applied), in OpenCASCADE's parameterisation
 //!   (see [`convert`]); the one approximation is an offset surface (140) over a free-form
 //!   base, which no NURBS represents exactly: it is fitted within a stated tolerance. [`Document::surfaces`] summarises every face's surface.
+//!   Faces inside 308 subfigure definitions come once per 408 singular subfigure instance
+//!   that places them, each with its placement and occurrence ([`Document::try_faces`]).
 //! * Edits rewrite only the records they change: [`Document::set_control_points`],
 //!   [`Document::set_bspline_surface`], [`Document::set_bspline_curve`],
 //!   [`Document::replace_with_bspline`] and the raw [`Document::set_values`]. Sequence

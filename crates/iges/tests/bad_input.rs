@@ -247,3 +247,48 @@ fn repro_swapped_parameter_lines_are_refused() {
     let err = Document::parse(&std::fs::read(cadmorph_testkit::repro("ig_P_lines_swapped.igs")).unwrap()).unwrap_err();
     assert!(matches!(err, Error::Sequence { .. }), "{err}");
 }
+
+/// `subfigure.igs` with `from` replaced by `to` (same length) in its P section.
+fn subfigure_with(from: &str, to: &str) -> Document {
+    let text = String::from_utf8(sample("subfigure.igs")).unwrap();
+    assert_eq!(from.len(), to.len());
+    assert_eq!(text.matches(from).count(), 1, "{from}");
+    Document::parse(text.replace(from, to).as_bytes()).unwrap()
+}
+
+#[test]
+fn subfigure_structures_that_cannot_be_read_name_the_entity() {
+    let doc = Document::parse(&sample("subfigure.igs")).unwrap();
+    assert_eq!(doc.try_faces().unwrap().len(), 28);
+    // A 408 whose definition is a 144, not a 308.
+    let doc = subfigure_with("408,155,0.,0.,0.,;", "408,111,0.,0.,0.,;");
+    let e = doc.try_faces().unwrap_err();
+    assert!(matches!(e, Error::Subfigure { de: 157, .. }), "{e}");
+    assert_eq!(
+        e.to_string(),
+        "entity DE 157: 408 instance of DE 111 (type 144 form 0), which is not a 308 subfigure definition"
+    );
+    // The lenient list leaves that instance out (the other one's 14 faces stay).
+    assert_eq!(doc.faces().len(), 14);
+    // A 308 that lists itself.
+    let doc = subfigure_with("308,1,4HPAIR,2,149,153;", "308,1,4HPAIR,2,149,155;");
+    let e = doc.try_faces().unwrap_err();
+    assert!(matches!(e, Error::Subfigure { de: 155, .. }), "{e}");
+    assert!(e.to_string().contains("contains itself"), "{e}");
+    // A 308 instancing itself through a 408 (PART's content is the instance of PART).
+    let doc = subfigure_with("308,0,4HPART,1,1;", "308,0,4HPART,1,9;");
+    assert!(doc.try_faces().is_ok(), "DE 9 is an ordinary entity");
+    let text = String::from_utf8(sample("subfigure.igs")).unwrap();
+    let looped = text.replace("308,0,4HPART,1,1;    ", "308,0,4HPART,1,149;  ");
+    let doc = Document::parse(looped.as_bytes()).unwrap();
+    let e = doc.try_faces().unwrap_err();
+    assert!(matches!(e, Error::Subfigure { de: 147, .. }), "{e}");
+    assert!(e.to_string().contains("contains itself (reached again inside DE 147)"), "{e}");
+    eprintln!("{e}");
+    // The 308's 402 group lists itself: refused, not a stack overflow.
+    let doc = subfigure_with("402,7,3,19,35,57,73,95,111;", "402,7,1,19,35,57,73,95,111;");
+    let e = doc.try_faces().unwrap_err();
+    assert!(matches!(e, Error::Subfigure { de: 1, .. }), "{e}");
+    assert!(e.to_string().contains("nested deeper than 256"), "{e}");
+    assert!(doc.faces().is_empty());
+}

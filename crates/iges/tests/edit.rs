@@ -333,3 +333,30 @@ fn entities_orphaned_by_an_edit_become_null_entities() {
     let (moved, _) = bumped_hull();
     assert!(nulls(&Document::parse(&moved.write()).unwrap()).is_empty());
 }
+
+/// A face placed by 408 instances is edited in its 308 definition's space: its placed
+/// B-spline form written back leaves every placement where it was (issue 22 item 4).
+#[test]
+fn placed_subfigure_face_is_written_back_in_definition_space() {
+    use cadmorph_brep::CadDocument;
+    let mut doc = Document::parse(&std::fs::read(cadmorph_testkit::sample("subfigure.igs")).unwrap()).unwrap();
+    let before = CadDocument::faces(&doc).unwrap().faces;
+    assert_eq!(before.len(), 28);
+    // Occurrence 1 of the first face: placed by a 124 matrix and a 0.5 scale.
+    let face = before[7].clone();
+    assert_eq!((face.entity.id, face.entity.occurrence), (before[0].entity.id, 1));
+    let placed = doc.bspline_form(&face).unwrap();
+    assert!(doc.set_face_surface(&face, &placed).unwrap());
+    let after = CadDocument::faces(&doc).unwrap().faces;
+    for (a, b) in before.iter().zip(&after).filter(|(a, _)| a.entity.id == face.entity.id) {
+        let (ud, vd) = b.surface.domain();
+        for (i, j) in [(0.0, 0.0), (0.3, 0.7), (1.0, 1.0)] {
+            let (u, v) = (ud.start() + i * (ud.end() - ud.start()), vd.start() + j * (vd.end() - vd.start()));
+            // The plane became a B-spline over the same box: the same points.
+            let (au, av) = a.surface.domain();
+            let p = a.surface.eval(au.start() + i * (au.end() - au.start()), av.start() + j * (av.end() - av.start()));
+            let q = b.surface.eval(u, v);
+            assert!((p - q).norm() <= 1e-9 * 1000.0, "occurrence {}: {p} vs {q}", a.entity.occurrence);
+        }
+    }
+}

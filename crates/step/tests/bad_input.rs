@@ -79,6 +79,70 @@ fn reference_cycles() {
     assert!(matches!(e, Error::ReferenceCycle { .. }), "{e}");
 }
 
+/// Two shape representations `#1` (a product's, `#30`) and `#2`, with the `MAPPED_ITEM`s
+/// `extra` (instances #10 on).
+fn mapped(extra: &str, items1: &str, items2: &str) -> String {
+    wrap(&format!(
+        "#1 = SHAPE_REPRESENTATION('',({items1}),$);\n#2 = SHAPE_REPRESENTATION('',({items2}),$);\n\
+         #5 = CARTESIAN_POINT('',(0.,0.,0.));\n#6 = AXIS2_PLACEMENT_3D('',#5,$,$);\n\
+         #30 = SHAPE_DEFINITION_REPRESENTATION(#5,#1);\n{extra}"
+    ))
+}
+
+#[test]
+fn mapped_item_cycles_and_bad_maps_name_the_instance() {
+    // #1 maps #2 (item #10), #2 maps #1 back (item #12): the cycle closes at #12.
+    let doc = Document::parse(
+        mapped(
+            "#10 = MAPPED_ITEM('a',#11,#6);\n#11 = REPRESENTATION_MAP(#6,#2);\n\
+             #12 = MAPPED_ITEM('b',#13,#6);\n#13 = REPRESENTATION_MAP(#6,#1);\n",
+            "#10",
+            "#12",
+        )
+        .as_bytes(),
+    )
+    .unwrap();
+    let e = doc.faces().unwrap_err();
+    assert!(matches!(e, Error::ReferenceCycle { target: EntityId(1), .. }), "{e}");
+    assert_eq!(pos(&e).2, Some(EntityId(12)), "{e}");
+    // A representation that maps itself.
+    let doc = Document::parse(
+        mapped("#10 = MAPPED_ITEM('a',#11,#6);\n#11 = REPRESENTATION_MAP(#6,#1);\n", "#10", "").as_bytes(),
+    )
+    .unwrap();
+    let e = doc.faces().unwrap_err();
+    assert!(matches!(e, Error::ReferenceCycle { target: EntityId(1), .. }), "{e}");
+    assert_eq!(pos(&e).2, Some(EntityId(10)), "{e}");
+    // A target that is not a placement, a source that is not a map.
+    let doc = Document::parse(
+        mapped("#10 = MAPPED_ITEM('a',#11,#5);\n#11 = REPRESENTATION_MAP(#6,#2);\n", "#10", "").as_bytes(),
+    )
+    .unwrap();
+    let e = doc.faces().unwrap_err();
+    assert!(matches!(e, Error::UnexpectedEntity { expected: "AXIS2_PLACEMENT_3D", .. }), "{e}");
+    assert_eq!(pos(&e).2, Some(EntityId(5)), "{e}");
+    let doc = Document::parse(mapped("#10 = MAPPED_ITEM('a',#6,#6);\n", "#10", "").as_bytes()).unwrap();
+    let e = doc.faces().unwrap_err();
+    assert!(matches!(e, Error::UnexpectedEntity { expected: "REPRESENTATION_MAP", .. }), "{e}");
+    assert_eq!(pos(&e).2, Some(EntityId(6)), "{e}");
+    // A representation mapped twice into the next, 40 deep: 2^40 placements refused.
+    let mut text = String::new();
+    for k in 0..40 {
+        let (rep, map, a, b) = (100 + 4 * k, 101 + 4 * k, 102 + 4 * k, 103 + 4 * k);
+        let inner = if k == 39 { "".to_string() } else { format!("#{a},#{b}") };
+        text += &format!("#{rep} = SHAPE_REPRESENTATION('',({inner}),$);\n#{map} = REPRESENTATION_MAP(#6,#{rep});\n");
+        if k > 0 {
+            let (pa, pb, pmap) = (a - 4, b - 4, map);
+            text += &format!("#{pa} = MAPPED_ITEM('',#{pmap},#6);\n#{pb} = MAPPED_ITEM('',#{pmap},#6);\n");
+        }
+    }
+    text += "#10 = MAPPED_ITEM('',#101,#6);\n";
+    let doc = Document::parse(mapped(&text, "#10", "").as_bytes()).unwrap();
+    let e = doc.faces().unwrap_err();
+    assert!(matches!(e, Error::Limit { .. }), "{e}");
+    eprintln!("{e}");
+}
+
 #[test]
 fn wrong_arity() {
     let doc = Document::parse(wrap("\n#7 = CARTESIAN_POINT('',(0.,0.,0.),5.);\n").as_bytes()).unwrap();

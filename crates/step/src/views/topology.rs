@@ -16,11 +16,27 @@ use crate::EntityId;
 /// An edge's curve, range `[t0, t1]` along it, and its start and end points.
 pub(crate) type EdgeGeometry = (super::geometry::CurveGeom, f64, f64, Point3<f64>, Point3<f64>);
 
-/// A shape representation placed in the world.
+/// A shape representation placed in the world: the run of its items `items` (a
+/// representation's items between two `MAPPED_ITEM`s, so that faces come in item order,
+/// as OCCT's `STEPControl_ActorRead` lists them).
 #[derive(Debug, Clone)]
 pub(crate) struct Occurrence {
     pub rep: EntityId,
     pub transform: Matrix4<f64>,
+    pub items: Vec<EntityId>,
+}
+
+/// What [`Ctx::descend`] needs to know of the file's representations.
+struct Tree<'m> {
+    /// Model units per unit of each shape representation's context.
+    rep_scale: &'m HashMap<u64, f64>,
+    /// Children of each representation by (SHAPE_)REPRESENTATION_RELATIONSHIP, with the
+    /// ITEM_DEFINED_TRANSFORMATION if any.
+    children: &'m HashMap<u64, Vec<(u64, Option<EntityId>)>>,
+    /// Most occurrences (item runs) listed, and representations visited, before giving up.
+    limit: usize,
+    /// Representations visited so far (empty ones too: a map of maps of nothing).
+    visits: std::cell::Cell<usize>,
 }
 
 fn is_shape_rep(name: &str) -> bool {
@@ -53,6 +69,10 @@ impl Ctx<'_> {
         let mut context_scale: HashMap<u64, f64> = HashMap::new();
         let mut children: HashMap<u64, Vec<(u64, Option<EntityId>)>> = HashMap::new();
         let mut is_child: HashMap<u64, bool> = HashMap::new();
+        // Representations a REPRESENTATION_MAP maps, and those a product's
+        // SHAPE_DEFINITION_REPRESENTATION names.
+        let mut mapped: HashMap<u64, bool> = HashMap::new();
+        let mut defined: HashMap<u64, bool> = HashMap::new();
         for k in 0..doc.instances.len() {
             let inst = &doc.instances[k];
             let name = doc.name_of(k);
@@ -75,6 +95,14 @@ impl Ctx<'_> {
                 };
                 reps.push(id);
                 rep_scale.insert(id.0, scale);
+            } else if !inst.complex && name == "REPRESENTATION_MAP" {
+                let r = self.any(id)?;
+                r.arity(2)?;
+                mapped.insert(r.reference(1)?.0, true);
+            } else if !inst.complex && name == "SHAPE_DEFINITION_REPRESENTATION" {
+                let r = self.any(id)?;
+                r.arity(2)?;
+                defined.insert(r.reference(1)?.0, true);
             } else if (!inst.complex
                 && matches!(name, "SHAPE_REPRESENTATION_RELATIONSHIP" | "REPRESENTATION_RELATIONSHIP"))
                 || (inst.complex && contains(doc.text(k), b"REPRESENTATION_RELATIONSHIP"))
@@ -101,34 +129,88 @@ impl Ctx<'_> {
                 is_child.insert(child.0, true);
             }
         }
-        let limit = doc.instances.len() * 4 + 1024;
+        let tree = Tree {
+            rep_scale: &rep_scale,
+            children: &children,
+            limit: doc.instances.len() * 4 + 1024,
+            visits: 0.into(),
+        };
         let mut out = Vec::new();
-        for &root in reps.iter().filter(|r| !is_child.contains_key(&r.0)) {
+        // A representation only a REPRESENTATION_MAP reaches is read where MAPPED_ITEMs
+        // place it; one that a product also names is a root as well (OCCT 7.9 reads it
+        // both unplaced and at every MAPPED_ITEM).
+        let is_root =
+            |r: &EntityId| !is_child.contains_key(&r.0) && (!mapped.contains_key(&r.0) || defined.contains_key(&r.0));
+        for &root in reps.iter().filter(|r| is_root(r)) {
             let mut stack = vec![root.0];
-            self.descend(root, Matrix4::identity(), &rep_scale, &children, &mut stack, &mut out, limit)?;
+            self.descend(root, Matrix4::identity(), &tree, &mut stack, &mut out)?;
         }
         Ok(out)
     }
 
-    #[allow(clippy::too_many_arguments)]
+    /// Lists `rep` placed by `world` (model units, without `rep`'s own unit scale), then
+    /// its relationship children. A `MAPPED_ITEM` among its items (ISO 10303-43 §4.5.7:
+    /// `mapped_item(name, mapping_source, mapping_target)`, the source a
+    /// `representation_map(mapping_origin, mapped_representation)`, §4.5.6) places the
+    /// mapped representation's items in `rep`'s coordinates (origin in the mapped
+    /// representation's units, target in `rep`'s), listed where the item stands among
+    /// `rep`'s items, nested maps in turn.
+    ///
+    /// The placement is OCCT's, `origin⁻¹ ∘ target` (OCCT 7.9
+    /// `STEPControl_ActorRead::ComputeTransformation`: `gp_Trsf::SetTransformation(target,
+    /// origin)`), measured on `samples/mapped_item.stp`. ISO 10303-43 §4.5.7 means
+    /// `target ∘ origin⁻¹` (the origin frame carried onto the target frame); the two agree
+    /// when either frame is the identity, as writers write them (an identity origin, the
+    /// representation's own axis), and differ otherwise. cadmorph follows OCCT, its
+    /// reference reader.
     fn descend(
         &self,
         rep: EntityId,
         world: Matrix4<f64>,
-        rep_scale: &HashMap<u64, f64>,
-        children: &HashMap<u64, Vec<(u64, Option<EntityId>)>>,
+        tree: &Tree<'_>,
         stack: &mut Vec<u64>,
         out: &mut Vec<Occurrence>,
-        limit: usize,
     ) -> Result<()> {
-        if out.len() >= limit {
+        let (rep_scale, children) = (tree.rep_scale, tree.children);
+        tree.visits.set(tree.visits.get() + 1);
+        if tree.visits.get() > tree.limit {
             return Err(Error::Limit {
                 at: self.doc.position_of_id(rep),
                 what: "more assembly occurrences than the file can describe",
             });
         }
         let s = rep_scale.get(&rep.0).copied().unwrap_or(1.0);
-        out.push(Occurrence { rep, transform: world * Matrix4::new_scaling(s) });
+        let mut run = Vec::new();
+        for item in self.any(rep)?.refs(1)? {
+            let k = self.index(item)?;
+            if self.doc.instances[k].complex || self.doc.name_of(k) != "MAPPED_ITEM" {
+                run.push(item);
+                continue;
+            }
+            self.push_run(rep, world * Matrix4::new_scaling(s), &mut run, tree, out)?;
+            let mi = self.any(item)?;
+            mi.arity(3)?;
+            let source = mi.reference(1)?;
+            let map = self.simple(source, "REPRESENTATION_MAP")?;
+            map.arity(2)?;
+            let mapped = map.reference(1)?;
+            if stack.contains(&mapped.0) {
+                return Err(Error::ReferenceCycle { at: self.doc.position_of_id(item), target: mapped });
+            }
+            if stack.len() > 256 {
+                return Err(Error::Limit { at: self.doc.position_of_id(item), what: "mapped items nested too deeply" });
+            }
+            let Some(&sc) = rep_scale.get(&mapped.0) else { continue };
+            let from = placement_matrix(&self.placement(map.reference(0)?)?, sc);
+            let to = placement_matrix(&self.placement(mi.reference(2)?)?, s);
+            // OCCT's order, not ISO's: see `descend`'s docs.
+            let rel = Matrix4::new_scaling(1.0 / s) * rigid_inverse(&from) * to;
+            let w = world * Matrix4::new_scaling(s) * rel * Matrix4::new_scaling(1.0 / sc);
+            stack.push(mapped.0);
+            self.descend(mapped, w, tree, stack, out)?;
+            stack.pop();
+        }
+        self.push_run(rep, world * Matrix4::new_scaling(s), &mut run, tree, out)?;
         let Some(kids) = children.get(&rep.0) else { return Ok(()) };
         for &(child, t) in kids {
             if stack.contains(&child) {
@@ -165,9 +247,31 @@ impl Ctx<'_> {
                 // The child's own scale is applied by `descend`; `rel` works in model
                 // units, so remove it again from the child's point of view.
                 let w = world * Matrix4::new_scaling(s) * rel * Matrix4::new_scaling(1.0 / sc);
-                self.descend(EntityId(child), w, rep_scale, children, stack, out, limit)?;
+                self.descend(EntityId(child), w, tree, stack, out)?;
                 stack.pop();
             }
+        }
+        Ok(())
+    }
+
+    /// Lists the items gathered in `run` (if any) as one occurrence of `rep` at
+    /// `transform`, and empties `run`; [`Error::Limit`] past the tree's limit.
+    fn push_run(
+        &self,
+        rep: EntityId,
+        transform: Matrix4<f64>,
+        run: &mut Vec<EntityId>,
+        tree: &Tree<'_>,
+        out: &mut Vec<Occurrence>,
+    ) -> Result<()> {
+        if out.len() >= tree.limit {
+            return Err(Error::Limit {
+                at: self.doc.position_of_id(rep),
+                what: "more assembly occurrences than the file can describe",
+            });
+        }
+        if !run.is_empty() {
+            out.push(Occurrence { rep, transform, items: std::mem::take(run) });
         }
         Ok(())
     }
@@ -265,28 +369,30 @@ impl Document {
         Ok((Ctx::new(self, units.plane_angle), units))
     }
 
-    /// Every face of every shape representation, once per assembly occurrence, with its
-    /// world placement. Faces of the same representation come in file order (OCCT's
-    /// order for single-part files).
+    /// Every face of every shape representation, once per assembly occurrence and per
+    /// `MAPPED_ITEM` placement (ISO 10303-43 §4.5.7), with its world placement. Faces of
+    /// the same representation come in file order (OCCT's order for single-part files),
+    /// those of a mapped representation where its `MAPPED_ITEM` stands among the items.
+    /// A representation only `REPRESENTATION_MAP`s reach is not read unplaced; one a
+    /// product's `SHAPE_DEFINITION_REPRESENTATION` also names is (as OCCT 7.9 does).
     ///
     /// # Errors
     ///
-    /// Malformed topology or placements (arity, parameter types, unexpected entities),
-    /// placement cycles ([`Error::ReferenceCycle`]), absurd assembly fan-out
-    /// ([`Error::Limit`]). A face whose surface cannot be converted is still listed,
-    /// with [`SurfaceKind::Other`].
+    /// Malformed topology or placements (arity, parameter types, unexpected entities, a
+    /// `MAPPED_ITEM` whose origin or target is not an `AXIS2_PLACEMENT_3D`), placement
+    /// cycles ([`Error::ReferenceCycle`] at the `MAPPED_ITEM` or relationship that closes
+    /// it), absurd assembly fan-out or nesting ([`Error::Limit`]). A face whose surface
+    /// cannot be converted is still listed, with [`SurfaceKind::Other`].
     pub fn faces(&self) -> Result<Vec<Face>> {
         let (ctx, units) = self.ctx()?;
         let mut out = Vec::new();
         let mut kinds: HashMap<u64, SurfaceKind> = HashMap::new();
         let mut occurrences_of: HashMap<u64, usize> = HashMap::new();
-        for (occ_index, occ) in ctx.occurrences(units.length.metres)?.into_iter().enumerate() {
-            let rep = ctx.any(occ.rep)?;
+        for occ in ctx.occurrences(units.length.metres)? {
             let mut faces = Vec::new();
-            for item in rep.refs(1)? {
+            for &item in &occ.items {
                 ctx.item_faces(item, &mut faces, 0)?;
             }
-            let _ = occ_index;
             for (fid, orient) in faces {
                 let r = ctx.any(fid)?;
                 r.arity(4)?;
