@@ -392,7 +392,7 @@ fn newton_surface<S: Surface + ?Sized>(
     tol: f64,
 ) -> Projection {
     let (uptol, vptol) = (PARAM_STEP * (ub - ua), PARAM_STEP * (vb - va));
-    let (mut u, mut v) = (u0, v0);
+    let (mut u, mut v) = leave_pole(s, p, (u0, v0), ((ua, ub), (va, vb)));
     let mut d = s.derivs(u, v, 2);
     let mut dsq = (d.point() - p).norm_squared();
     for _ in 0..MAX_ITERATIONS {
@@ -449,6 +449,70 @@ fn newton_surface<S: Surface + ?Sized>(
     // Report `eval` (not the derivative routine's point) so `point == s.eval(u, v)` exactly.
     let point = s.eval(u, v);
     Projection { u, v, point, distance_sq: (point - p).norm_squared() }
+}
+
+/// Samples of the collapsed parameter [`leave_pole`] compares.
+const POLE_SCAN: usize = 64;
+
+/// The start of [`newton_surface`] at a pole: where one partial vanishes (a sphere's
+/// pole, a cone's apex, a collapsed edge), every value of that parameter gives the same
+/// point, so Newton cannot move it, and the step in the other parameter leaves along
+/// whichever meridian the start happens to name, away from `p` when that one points
+/// elsewhere. The start keeps the point but takes the value of the collapsed parameter
+/// whose other partial points most towards `p` (of [`POLE_SCAN`] evenly spaced ones).
+/// Elsewhere the start is returned unchanged.
+fn leave_pole<S: Surface + ?Sized>(
+    s: &S,
+    p: &Point3<f64>,
+    (u, v): (f64, f64),
+    ((ua, ub), (va, vb)): ((f64, f64), (f64, f64)),
+) -> (f64, f64) {
+    let d = s.derivs(u, v, 1);
+    let to_p = p - d.point();
+    let (nu, nv) = (d[(1, 0)].norm(), d[(0, 1)].norm());
+    if to_p.norm_squared() == 0.0 || !(nu.is_finite() && nv.is_finite()) {
+        return (u, v);
+    }
+    // Which parameter collapses, if any: its partial is negligible beside the other's.
+    let u_collapsed = nu <= 1e-9 * nv;
+    let v_collapsed = nv <= 1e-9 * nu;
+    if u_collapsed == v_collapsed {
+        return (u, v);
+    }
+    let toward = |x: f64| -> f64 {
+        let (uu, vv) = if u_collapsed { (x, v) } else { (u, x) };
+        let e = s.derivs(uu, vv, 1);
+        let t = if u_collapsed { e[(0, 1)] } else { e[(1, 0)] };
+        // Leaving inward from a bound: the partial's sign as the domain allows.
+        let inward = if u_collapsed {
+            if v >= vb {
+                -1.0
+            } else {
+                1.0
+            }
+        } else if u >= ub {
+            -1.0
+        } else {
+            1.0
+        };
+        let n = t.norm();
+        if n > 0.0 {
+            inward * t.dot(&to_p) / n
+        } else {
+            f64::NEG_INFINITY
+        }
+    };
+    let (a, b) = if u_collapsed { (ua, ub) } else { (va, vb) };
+    let best = (0..=POLE_SCAN)
+        .map(|k| a + (b - a) * k as f64 / POLE_SCAN as f64)
+        .map(|x| (x, toward(x)))
+        .max_by(|x, y| x.1.total_cmp(&y.1))
+        .map_or(if u_collapsed { u } else { v }, |(x, _)| x);
+    if u_collapsed {
+        (best, v)
+    } else {
+        (u, best)
+    }
 }
 
 #[cfg(test)]
@@ -680,6 +744,31 @@ mod tests {
             let pr = through_generic(&s, &Point3::new(0.0, 0.0, z));
             assert!((pr.distance_sq.sqrt() - 1.0).abs() < 1e-9);
             assert!((pr.point.z.abs() - 2.0).abs() < 1e-9);
+        }
+    }
+
+    /// Points a few degrees from a pole (the fillet corner of an OCCT-written box, whose
+    /// sphere has its pole on the box edge): the grid's best starts are the pole itself,
+    /// where Newton cannot turn towards the point; the search must still find it.
+    #[test]
+    fn points_next_to_a_pole_project_onto_themselves() {
+        let sphere = Sphere::try_new(Placement::standard(), 3.0).unwrap();
+        let (full, half) = (std::f64::consts::TAU, std::f64::consts::FRAC_PI_2);
+        let s = sphere.to_nurbs(0.0..=full, -half..=half).unwrap().surface;
+        for pole in [-1.0f64, 1.0] {
+            for deg in [0.5f64, 2.0, 5.0, 10.0, 15.0] {
+                for az in [0.0f64, 1.0, 2.5, 4.0, 4.712_388_980_384_69, 6.0] {
+                    let lat = pole * (half - deg.to_radians());
+                    for off in [0.0, 0.05] {
+                        let r = 3.0 + off;
+                        let q = Point3::new(r * lat.cos() * az.cos(), r * lat.cos() * az.sin(), r * lat.sin());
+                        let pr = s.project(&q, 1e-12);
+                        assert!((pr.distance_sq.sqrt() - off).abs() < 1e-9, "{q}: {}", pr.distance_sq.sqrt());
+                        let from_pole = s.project_from(&q, (0.0, pole * half), 1e-12);
+                        assert!((from_pole.distance_sq.sqrt() - off).abs() < 1e-9, "{q} from the pole");
+                    }
+                }
+            }
         }
     }
 

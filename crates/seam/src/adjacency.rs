@@ -186,8 +186,28 @@ pub fn closing_seams(patches: &[&NurbsSurface], tol: f64, samples: usize, min_fr
                 s.u_iso((ud.start() + ud.end()) / 2.0)
             };
             let close = tol.max(1e-2 * polyline_length(&across, 256));
-            let Some((ra, rb)) = overlap(&a, &b, close, samples, min_fraction) else { continue };
-            out.push(orient(SideRef { patch, side: lo }, SideRef { patch, side: hi }, ra, rb));
+            // The two sides of a patch share their parameter (`S(u₀, t)` and `S(u₁, t)`
+            // for a patch closed in u), so a closing seam matches them at equal `t`, not
+            // by projection: sides that are closed curves themselves (a torus's, a
+            // revolved loop's) project their ends onto either end of the other, which
+            // would pair points half a turn apart.
+            let d = a.domain();
+            let (t0, t1) = (*d.start(), *d.end());
+            let mut matched = 0usize;
+            let (mut first, mut last) = (None, None);
+            for i in 0..samples {
+                let t = t0 + (t1 - t0) * i as f64 / (samples - 1) as f64;
+                if (a.eval(t) - b.eval(t)).norm() <= close {
+                    matched += 1;
+                    first = first.or(Some(t));
+                    last = Some(t);
+                }
+            }
+            let (Some(f), Some(l)) = (first, last) else { continue };
+            if (matched as f64) < min_fraction * samples as f64 || l <= f {
+                continue;
+            }
+            out.push(orient(SideRef { patch, side: lo }, SideRef { patch, side: hi }, (f, l), (f, l)));
         }
     }
     out

@@ -65,3 +65,24 @@ fn a_narrow_strip_is_not_closed() {
     assert!(closing_seams(&[&strip], 1e-6, 64, 0.9).is_empty());
     assert!(shared_boundaries(&[&strip], 1e-6, 64, 0.9).is_empty());
 }
+
+/// A whole torus is closed in both directions, and each pair of its sides are circles
+/// themselves: matched by their shared parameter, both closing seams are exact (paired
+/// by projection instead, a circle's end lands on either end of the other and the
+/// "seam" compared points half a turn apart: 2(R + r) = 50 on this torus, as measured on
+/// an OCCT-written torus before the fix).
+#[test]
+fn a_torus_has_two_exact_closing_seams() {
+    use cadmorph_nurbs::analytic::{AnalyticSurface, Placement, Torus};
+    use std::f64::consts::{PI, TAU};
+    let t = Torus::try_new(Placement::standard(), 20.0, 5.0).unwrap();
+    let s = t.to_nurbs(0.0..=TAU, -PI..=PI).unwrap().surface;
+    let edges = closing_seams(&[&s], 1e-6, 64, 0.9);
+    assert_eq!(edges.len(), 2, "{edges:?}");
+    let faces = [Face { surface: &s, reversed: false }];
+    for e in &edges {
+        let r = measure_boundary(&faces, e, 101);
+        assert!(r.gap_closest.max <= 1e-12 && r.gap_matched.max <= 1e-12, "{e:?}: {r:?}");
+        assert!(r.length > 0.999 * 2.0 * PI * 5.0, "{e:?}: the whole side, {}", r.length);
+    }
+}

@@ -20,20 +20,41 @@ use crate::error::{Error, Result};
 /// Samples per edge (plus its ends).
 const EDGE_SAMPLES: usize = 24;
 
-/// One parameter direction: angular (periodic) or linear.
+/// One parameter direction: periodic (an angle, or the parameter of a closed basis
+/// curve: values taken modulo `period` into `[start, start + period)`) or linear.
 #[derive(Clone, Copy, PartialEq)]
 enum Dir {
-    Angle,
+    Periodic { start: f64, period: f64 },
     Linear,
+}
+
+/// Angles: periodic with period 2π from 0.
+const ANGLE: Dir = Dir::Periodic { start: 0.0, period: TAU };
+
+/// The parameter of a basis curve: periodic over its domain when the curve closes on
+/// itself (its ends within `1e-9 ×` its size: a closed B-spline profile of an
+/// extrusion, whose seam the face's edges cross), linear otherwise.
+fn curve_dir(c: &cadmorph_nurbs::NurbsCurve) -> Dir {
+    let pts = c.control_points();
+    let size = pts.iter().fold(0.0f64, |m, p| m.max((p - pts[0]).norm()));
+    let dom = c.domain();
+    let (a, b) = (c.eval(*dom.start()), c.eval(*dom.end()));
+    if size > 0.0 && (a - b).norm() <= 1e-9 * size {
+        Dir::Periodic { start: *dom.start(), period: dom.end() - dom.start() }
+    } else {
+        Dir::Linear
+    }
 }
 
 impl Ctx<'_> {
     pub fn face_box(&self, face: &Face, g: &SurfaceGeom) -> Result<((f64, f64), (f64, f64))> {
         let (du, dv) = match g {
-            SurfaceGeom::Plane(_) | SurfaceGeom::Extrusion(_) => (Dir::Linear, Dir::Linear),
-            SurfaceGeom::Cylinder(_) | SurfaceGeom::Cone(_) | SurfaceGeom::Revolution(_) => (Dir::Angle, Dir::Linear),
-            SurfaceGeom::Sphere(_) => (Dir::Angle, Dir::Linear),
-            SurfaceGeom::Torus(_) => (Dir::Angle, Dir::Angle),
+            SurfaceGeom::Plane(_) => (Dir::Linear, Dir::Linear),
+            SurfaceGeom::Extrusion(s) => (curve_dir(s.curve()), Dir::Linear),
+            SurfaceGeom::Cylinder(_) | SurfaceGeom::Cone(_) => (ANGLE, Dir::Linear),
+            SurfaceGeom::Revolution(s) => (ANGLE, curve_dir(s.curve())),
+            SurfaceGeom::Sphere(_) => (ANGLE, Dir::Linear),
+            SurfaceGeom::Torus(_) => (ANGLE, ANGLE),
             _ => (Dir::Linear, Dir::Linear),
         };
         // Per edge: the (u, v) of its samples, in order; u is None where undefined (poles).
@@ -64,7 +85,10 @@ impl Ctx<'_> {
                 let mut extra = Vec::new();
                 for coord in 0..2 {
                     let val = |s: &(Option<f64>, f64)| if coord == 0 { s.0 } else { Some(s.1) };
-                    let angular = (if coord == 0 { du } else { dv }) == Dir::Angle;
+                    let period = match if coord == 0 { du } else { dv } {
+                        Dir::Periodic { period, .. } => Some(period),
+                        Dir::Linear => None,
+                    };
                     for sign in [1.0, -1.0] {
                         let best = (0..pts.len())
                             .filter_map(|i| val(&pts[i].1).map(|x| (i, x)))
@@ -75,8 +99,8 @@ impl Ctx<'_> {
                         let f = |t: f64| -> f64 {
                             match val(&invert(g, &c.eval(t))) {
                                 Some(mut x) => {
-                                    if angular {
-                                        x += ((x0 - x) / TAU).round() * TAU;
+                                    if let Some(p) = period {
+                                        x += ((x0 - x) / p).round() * p;
                                     }
                                     sign * x
                                 }
@@ -219,31 +243,36 @@ fn range(edges: &[Vec<f64>], dir: Dir) -> Option<(f64, f64)> {
     if all.is_empty() {
         return None;
     }
-    if dir == Dir::Linear {
-        let lo = all.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = all.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        return Some((lo, hi));
-    }
-    // Unwrap each edge; collect its arc [start, end] with start in [0, 2π).
+    let (origin, period) = match dir {
+        Dir::Linear => {
+            let lo = all.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = all.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            return Some((lo, hi));
+        }
+        Dir::Periodic { start, period } => (start, period),
+    };
+    let half = period / 2.0;
+    let normalize = |a: f64| normalize(a, origin, period);
+    // Unwrap each edge; collect its arc [start, end] with start in [origin, origin + period).
     let mut arcs: Vec<(f64, f64)> = Vec::new();
     for e in edges {
         let mut it = e.iter().copied().filter(|x| x.is_finite());
         let Some(first) = it.next() else { continue };
         let (mut prev, mut lo, mut hi) = (first, first, first);
         for mut a in it {
-            while a - prev > std::f64::consts::PI {
-                a -= TAU;
+            while a - prev > half {
+                a -= period;
             }
-            while prev - a > std::f64::consts::PI {
-                a += TAU;
+            while prev - a > half {
+                a += period;
             }
             lo = lo.min(a);
             hi = hi.max(a);
             prev = a;
         }
-        if hi - lo >= TAU - 1e-9 {
+        if hi - lo >= period * (1.0 - 1e-9) {
             let s = normalize(first);
-            return Some((s, s + TAU));
+            return Some((s, s + period));
         }
         let s = normalize(lo);
         arcs.push((s, s + (hi - lo)));
@@ -262,31 +291,32 @@ fn range(edges: &[Vec<f64>], dir: Dir) -> Option<(f64, f64)> {
     let mut start = merged[0].0;
     for i in 0..n {
         let end = merged[i].1;
-        let next = if i + 1 < n { merged[i + 1].0 } else { merged[0].0 + TAU };
+        let next = if i + 1 < n { merged[i + 1].0 } else { merged[0].0 + period };
         let gap = next - end;
         if gap > best_gap {
             best_gap = gap;
             start = next;
         }
     }
-    if best_gap <= 1e-9 {
+    if best_gap <= 1e-9 * period {
         let s = normalize(merged[0].0);
-        return Some((s, s + TAU));
+        return Some((s, s + period));
     }
     let s = normalize(start);
-    Some((s, s + TAU - best_gap))
+    Some((s, s + period - best_gap))
 }
 
-/// An angle in [0, 2π), with values a rounding error below 0 or 2π taken as 0.
-fn normalize(a: f64) -> f64 {
-    let mut x = a.rem_euclid(TAU);
-    if x > TAU - 1e-9 {
+/// A periodic value in `[origin, origin + period)`, with values a rounding error below
+/// either end taken as `origin`.
+fn normalize(a: f64, origin: f64, period: f64) -> f64 {
+    let mut x = (a - origin).rem_euclid(period);
+    if x > period * (1.0 - 1e-9) {
         x = 0.0;
     }
-    if x.abs() < 1e-12 {
-        0.0
+    if x.abs() < 1e-12 * period {
+        origin
     } else {
-        x
+        origin + x
     }
 }
 
@@ -298,14 +328,14 @@ mod tests {
     fn angular_ranges() {
         let q = std::f64::consts::FRAC_PI_2;
         // One quarter arc.
-        assert_eq!(range(&[vec![0.0, 0.5, 1.0]], Dir::Angle), Some((0.0, 1.0)));
+        assert_eq!(range(&[vec![0.0, 0.5, 1.0]], ANGLE), Some((0.0, 1.0)));
         // An arc crossing the ±π cut.
-        let r = range(&[vec![3.0, 3.1, -3.1, -3.0]], Dir::Angle).unwrap();
+        let r = range(&[vec![3.0, 3.1, -3.1, -3.0]], ANGLE).unwrap();
         assert!((r.0 - 3.0).abs() < 1e-12 && (r.1 - (TAU - 3.0)).abs() < 1e-12);
         // A full circle edge.
         let full: Vec<f64> =
             (0..=24).map(|i| (i as f64 * TAU / 24.0 + q).sin().atan2((i as f64 * TAU / 24.0 + q).cos())).collect();
-        let r = range(&[full], Dir::Angle).unwrap();
+        let r = range(&[full], ANGLE).unwrap();
         assert!((r.1 - r.0 - TAU).abs() < 1e-12);
     }
 }
