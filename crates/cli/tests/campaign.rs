@@ -61,8 +61,10 @@ fn files(dir: &Path) -> BTreeMap<PathBuf, SystemTime> {
             let p = e.path();
             if p.is_dir() {
                 stack.push(p);
-            } else {
-                out.insert(p.clone(), e.metadata().unwrap().modified().unwrap());
+            } else if let Ok(t) = e.metadata().and_then(|m| m.modified()) {
+                // A file the running campaign renamed or removed between the listing
+                // and this look (a temporary one becoming final) is simply not there.
+                out.insert(p.clone(), t);
             }
         }
     }

@@ -161,7 +161,13 @@ fn invert(g: &SurfaceGeom, p: &Point3<f64>) -> (Option<f64>, f64) {
         }
         SurfaceGeom::Sphere(s) => {
             let (x, y, z) = local(s.placement());
-            (angle(x, y, s.radius()), z.atan2(x.hypot(y)))
+            // Within 1e-6 of the radius of a pole the longitude is rounding noise (the
+            // point's own rounding over its tiny distance from the axis): taken there, it
+            // widens the face's box by up to 1e-5 rad, and the face's iso-boundary then
+            // misses its edge (2.6e-5 on an OCCT fillet corner whose pole is an end of
+            // its edges). Such samples bound only the latitude.
+            let u = (x.hypot(y) > 1e-6 * s.radius()).then(|| y.atan2(x));
+            (u, z.atan2(x.hypot(y)))
         }
         SurfaceGeom::Torus(s) => {
             let (x, y, z) = local(s.placement());

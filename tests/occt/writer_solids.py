@@ -1,0 +1,96 @@
+#!/usr/bin/env python3
+"""writer_solids.py - solids as OCCT's own writers make them, for the seam checks.
+
+OCCT 7.9.3 through OCP (tests/occt/setup.sh makes the venv). Command:
+
+  make DIR
+      Writes into DIR, each as STEP (AP214) and as IGES in B-rep mode (186/514/510
+      faces on 190-198 analytic surfaces, write.iges.brep.mode 1) and face mode (144):
+      * fillet_box: a 40 x 30 x 20 box with every edge filleted (r 3), turned 0.7 rad
+        about (1, 1, 1) and moved: planes, quarter cylinders and sphere octants whose
+        poles lie on the fillets' edges and which reach their surfaces' seams;
+      * torus: a whole torus (R 20, r 5) about a tilted axis, closed in both directions;
+      * closed_extrusion: a periodic B-spline profile through six points
+        (GeomAPI_Interpolate, periodic) extruded by 15: an extrusion of a closed curve
+        whose seam its face wraps across.
+      Prints {"files": [...]} as JSON.
+
+Exit codes: 0 fine, 1 OCCT failed, 3 bad usage.
+"""
+import json
+import math
+import os
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import occt_ref  # noqa: E402,F401  (quiet OCCT)
+
+
+def shapes():
+    from OCP.gp import gp_Pnt, gp_Dir, gp_Ax1, gp_Ax2, gp_Vec, gp_Trsf
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox, BRepPrimAPI_MakeTorus, BRepPrimAPI_MakePrism
+    from OCP.BRepFilletAPI import BRepFilletAPI_MakeFillet
+    from OCP.BRepBuilderAPI import (BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeWire,
+                                    BRepBuilderAPI_MakeFace, BRepBuilderAPI_Transform)
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopAbs import TopAbs_EDGE
+    from OCP.TopoDS import TopoDS
+    from OCP.TColgp import TColgp_HArray1OfPnt
+    from OCP.GeomAPI import GeomAPI_Interpolate
+
+    box = BRepPrimAPI_MakeBox(40, 30, 20).Shape()
+    fillet = BRepFilletAPI_MakeFillet(box)
+    ex = TopExp_Explorer(box, TopAbs_EDGE)
+    while ex.More():
+        fillet.Add(3.0, TopoDS.Edge_s(ex.Current()))
+        ex.Next()
+    t = gp_Trsf()
+    t.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(1, 1, 1)), 0.7)
+    t.SetTranslationPart(gp_Vec(100, -50, 20))
+    out = {"fillet_box": BRepBuilderAPI_Transform(fillet.Shape(), t, True).Shape()}
+    out["torus"] = BRepPrimAPI_MakeTorus(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 1, 1)), 20, 5).Shape()
+    pts = TColgp_HArray1OfPnt(1, 6)
+    for i, (x, y) in enumerate([(0, 0), (10, -3), (20, 2), (30, 0), (25, 10), (10, 12)]):
+        pts.SetValue(i + 1, gp_Pnt(x, y, 0))
+    ip = GeomAPI_Interpolate(pts, True, 1e-9)
+    ip.Perform()
+    wire = BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(ip.Curve()).Edge()).Wire()
+    face = BRepBuilderAPI_MakeFace(wire).Face()
+    out["closed_extrusion"] = BRepPrimAPI_MakePrism(face, gp_Vec(0, 0, 15)).Shape()
+    return out
+
+
+def main(argv):
+    if len(argv) != 2 or argv[0] != "make":
+        print(__doc__, file=sys.stderr)
+        return 3
+    from OCP.STEPControl import STEPControl_Writer, STEPControl_AsIs
+    from OCP.IGESControl import IGESControl_Writer
+    from OCP.Interface import Interface_Static
+    from OCP.IFSelect import IFSelect_RetDone
+    out = argv[1]
+    os.makedirs(out, exist_ok=True)
+    files = []
+    for name, s in shapes().items():
+        Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
+        w = STEPControl_Writer()
+        w.Transfer(s, STEPControl_AsIs)
+        path = os.path.join(out, name + ".stp")
+        if w.Write(path) != IFSelect_RetDone:
+            return 1
+        files.append(path)
+        for mode, tag in [(1, "brep"), (0, "faces")]:
+            iw = IGESControl_Writer("MM", mode)
+            iw.AddShape(s)
+            iw.ComputeModel()
+            path = os.path.join(out, "%s_%s.igs" % (name, tag))
+            if not iw.Write(path):
+                return 1
+            files.append(path)
+    print(json.dumps({"files": files}))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
