@@ -16,6 +16,8 @@ use serde::Serialize;
 
 use crate::format::foam::PolyMesh;
 
+mod screen;
+
 /// OpenFOAM's `VSMALL` for double precision.
 const VSMALL: f64 = 1e-300;
 /// OpenFOAM's `ROOTVSMALL`.
@@ -101,7 +103,7 @@ impl Geometry {
                 for (f, _) in faces.clone() {
                     est += face_centres[f].coords;
                 }
-                est /= faces.len().max(1) as f64;
+                est /= cf.count(c).max(1) as f64;
                 let (mut ctr, mut vol) = (Vector3::zeros(), 0.0);
                 for (f, owned) in faces {
                     let fc = face_centres[f].coords;
@@ -122,42 +124,66 @@ impl Geometry {
 /// the neighbour list): the faces it owns in face order, then those it neighbours. A
 /// counting sort of the owner and neighbour lists.
 pub(crate) struct CellFaces {
+    /// The faces each cell owns, in face order (CSR over the cells).
+    owned: Csr,
+    /// The faces each cell neighbours, in face order.
+    neighboured: Csr,
+}
+
+/// Lists per cell: cell `c`'s entries are `items[offsets[c]..offsets[c + 1]]`.
+struct Csr {
     offsets: Vec<usize>,
-    /// Face index, with [`CellFaces::NEIGHBOUR`] set when the cell is the face's neighbour.
-    faces: Vec<usize>,
+    items: Vec<usize>,
+}
+
+impl Csr {
+    /// The faces `f` of each cell `cells[f]` (a counting sort, stable: in face order).
+    /// Each cell's count is summed into the end of its run; then the faces are placed
+    /// from the back, which leaves each cell's offset at the start of its run.
+    fn by_cell(cells: &[usize], nc: usize) -> Csr {
+        let mut offsets = vec![0usize; nc + 1];
+        for &c in cells {
+            offsets[c] += 1;
+        }
+        let mut sum = 0;
+        for o in offsets.iter_mut() {
+            sum += *o;
+            *o = sum;
+        }
+        let mut items = vec![0usize; sum];
+        for (f, &c) in cells.iter().enumerate().rev() {
+            offsets[c] -= 1;
+            items[offsets[c]] = f;
+        }
+        Csr { offsets, items }
+    }
+
+    #[inline]
+    fn of(&self, c: usize) -> &[usize] {
+        &self.items[self.offsets[c]..self.offsets[c + 1]]
+    }
 }
 
 impl CellFaces {
-    const NEIGHBOUR: usize = 1 << (usize::BITS - 1);
-
+    /// The owner and the neighbour list sorted by cell, the two in parallel.
     fn of(mesh: &PolyMesh) -> CellFaces {
         let nc = mesh.n_cells();
-        let (own, nei) = (mesh.owner(), mesh.neighbour());
-        let mut offsets = vec![0usize; nc + 1];
-        for &c in own.iter().chain(nei) {
-            offsets[c + 1] += 1;
-        }
-        for c in 0..nc {
-            offsets[c + 1] += offsets[c];
-        }
-        let mut next = offsets[..nc].to_vec();
-        let mut faces = vec![0usize; offsets[nc]];
-        for (f, &c) in own.iter().enumerate() {
-            faces[next[c]] = f;
-            next[c] += 1;
-        }
-        for (f, &c) in nei.iter().enumerate() {
-            faces[next[c]] = f | Self::NEIGHBOUR;
-            next[c] += 1;
-        }
-        CellFaces { offsets, faces }
+        let (owned, neighboured) =
+            rayon::join(|| Csr::by_cell(mesh.owner(), nc), || Csr::by_cell(mesh.neighbour(), nc));
+        CellFaces { owned, neighboured }
     }
 
-    /// Cell `c`'s faces: (face, whether `c` owns it).
-    fn faces(&self, c: usize) -> impl ExactSizeIterator<Item = (usize, bool)> + Clone + '_ {
-        self.faces[self.offsets[c]..self.offsets[c + 1]]
-            .iter()
-            .map(|&f| (f & !Self::NEIGHBOUR, f & Self::NEIGHBOUR == 0))
+    /// Cell `c`'s faces: (face, whether `c` owns it), those it owns first.
+    #[inline]
+    fn faces(&self, c: usize) -> impl Iterator<Item = (usize, bool)> + Clone + '_ {
+        let own = self.owned.of(c).iter().map(|&f| (f, true));
+        own.chain(self.neighboured.of(c).iter().map(|&f| (f, false)))
+    }
+
+    /// The number of faces of cell `c`.
+    #[inline]
+    fn count(&self, c: usize) -> usize {
+        self.owned.of(c).len() + self.neighboured.of(c).len()
     }
 }
 
@@ -522,12 +548,18 @@ impl FaceChecks {
                 }
                 lower(&mut a.min_pyramid, Worst { index: f, value: v });
             }
-            let skew = if skip[f] { 0.0 } else { skewness(pts, face, fc, fa, co, cn) };
-            higher(&mut a.max_skew, Worst { index: f, value: skew });
-            if skew > SKEW_THRESHOLD {
-                a.highly_skew += 1;
+            // A face whose skewness is surely below both the largest so far and the
+            // threshold changes neither (`screen`); the others get the exact value.
+            let limit = a.max_skew.value.min(SKEW_THRESHOLD);
+            if !cn.is_some_and(|cn| !skip[f] && screen::skew_surely_below(fc, fa, co, cn, limit)) {
+                let skew = if skip[f] { 0.0 } else { skewness(pts, face, fc, fa, co, cn) };
+                higher(&mut a.max_skew, Worst { index: f, value: skew });
+                if skew > SKEW_THRESHOLD {
+                    a.highly_skew += 1;
+                }
             }
-            let sin = concavity(pts, face, fa);
+            // A surely convex face has no concave corner: `concavity` would give 0.
+            let sin = if screen::surely_convex(pts, face, fa) { 0.0 } else { concavity(pts, face, fa) };
             higher(&mut a.max_sin, Worst { index: f, value: sin });
             if sin > sin_limit {
                 a.concave += 1;

@@ -27,6 +27,7 @@ use rayon::prelude::*;
 /// lists are cut into many pieces).
 const MIN_PIECE: usize = if cfg!(test) { 64 } else { 1 << 20 };
 
+#[inline]
 fn is_ws(c: u8) -> bool {
     matches!(c, b' ' | b'\n' | b'\t' | b'\r' | b'\x0b' | b'\x0c')
 }
@@ -39,18 +40,35 @@ struct Scan<'a> {
 }
 
 impl Scan<'_> {
+    #[inline]
     fn ws(&mut self) {
         while self.pos < self.end && is_ws(self.b[self.pos]) {
             self.pos += 1;
         }
     }
 
+    #[inline]
     fn peek(&self) -> Option<u8> {
         (self.pos < self.end).then(|| self.b[self.pos])
     }
 
     /// An unsigned decimal label of 1 to 18 digits, not followed by a digit.
+    #[inline]
     fn uint(&mut self) -> Option<usize> {
+        if self.pos + 8 <= self.end {
+            if let Some(w) = self.b.get(self.pos..self.pos + 8) {
+                let w = u64::from_le_bytes([w[0], w[1], w[2], w[3], w[4], w[5], w[6], w[7]]);
+                if let Some((v, len)) = swar_digits(w) {
+                    self.pos += len;
+                    return Some(v as usize);
+                }
+            }
+        }
+        self.uint_loop()
+    }
+
+    /// [`Scan::uint`] a digit at a time (near the end, or for 8 digits or more).
+    fn uint_loop(&mut self) -> Option<usize> {
         let start = self.pos;
         let mut v: u64 = 0;
         while self.pos < self.end {
@@ -65,18 +83,52 @@ impl Scan<'_> {
         (1..=18).contains(&len).then_some(v as usize)
     }
 
+    #[inline]
     fn punct(&mut self, c: u8) -> Option<()> {
         (self.peek() == Some(c)).then(|| self.pos += 1)
     }
 
     /// A number token (up to white space or `)`), parsed as [`real`] does.
     fn real(&mut self) -> Option<f64> {
+        // The common case in one pass: `fast-float2` reads the longest number at the
+        // cursor; when white space, `)` or the end follows and the value is finite, that
+        // number is the whole token, of [`real`]'s alphabet, and `real` reads it the same
+        // way. Anything else (`nan`, `inf`, `1x`) goes through `real`.
+        if let Ok((v, len)) = fast_float2::parse_partial::<f64, _>(&self.b[self.pos..self.end]) {
+            let next = self.pos + len;
+            if len > 0 && v.is_finite() && (next == self.end || is_ws(self.b[next]) || self.b[next] == b')') {
+                self.pos = next;
+                return Some(v);
+            }
+        }
         let start = self.pos;
         while self.pos < self.end && !is_ws(self.b[self.pos]) && self.b[self.pos] != b')' {
             self.pos += 1;
         }
         real(&self.b[start..self.pos])
     }
+}
+
+/// The run of 1 to 7 decimal digits that starts the 8 bytes `w` (little-endian: the
+/// first byte lowest) and is followed by a non-digit among them: its value and length.
+/// `None` when `w` starts with a non-digit or holds 8 digits.
+#[inline]
+fn swar_digits(w: u64) -> Option<(u64, usize)> {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    // A byte is a digit when its high nibble is 3 and adding 6 keeps it so (0x30–0x39). A
+    // carry out of a byte ≥ 0xFA can only spoil the bytes after that non-digit.
+    let hi = 0xF0 * ONES;
+    let non_digit = ((w & hi) ^ (0x30 * ONES)) | ((w.wrapping_add(0x06 * ONES) & hi) ^ (0x30 * ONES));
+    let len = (non_digit.trailing_zeros() / 8) as usize;
+    if len == 0 || len == 8 {
+        return None;
+    }
+    // The digits moved to the top bytes, zeros (leading zero digits) below: then pairs,
+    // quads and the eight-digit value, each step a multiply and a shift.
+    let v = (w & (0x0F * ONES)) << (8 * (8 - len));
+    let v = ((v & (0x0F * ONES)).wrapping_mul(2561) >> 8) & 0x00FF_00FF_00FF_00FF;
+    let v = (v.wrapping_mul(6_553_601) >> 16) & 0x0000_FFFF_0000_FFFF;
+    Some((v.wrapping_mul(42_949_672_960_001) >> 32, len))
 }
 
 /// A number as Rust's `str::parse::<f64>` reads it (the general lexer's reading): tokens
@@ -167,14 +219,10 @@ fn split_lengths<'a, T>(mut out: &'a mut [T], lens: &[usize]) -> Vec<&'a mut [T]
 
 /// Runs of decimal digits in `b`.
 fn count_numbers(b: &[u8]) -> usize {
-    let mut n = 0;
-    let mut prev = false;
-    for &c in b {
-        let d = c.is_ascii_digit();
-        n += usize::from(d && !prev);
-        prev = d;
-    }
-    n
+    // Digits that follow a non-digit, in a form the compiler vectorises.
+    let digit = |c: u8| c.wrapping_sub(b'0') < 10;
+    let first = usize::from(b.first().is_some_and(|&c| digit(c)));
+    first + b.iter().zip(&b[1.min(b.len())..]).map(|(&a, &c)| usize::from(digit(c) & !digit(a))).sum::<usize>()
 }
 
 /// Exactly `n` unsigned labels from `b[start..]` up to the list's `)`: the labels and the
@@ -364,6 +412,28 @@ mod tests {
             let text = face_text(&all, "\n\n// ******************** //\n");
             let fast = file::face_list_fast(text.as_bytes()).map(|(_, o, p)| (o, p));
             prop_assert_eq!(fast, Some(slow_faces(&text)));
+        }
+
+        /// The eight-byte digit reader agrees with a digit-at-a-time loop, for any bytes
+        /// (digits, white space, `)` and arbitrary ones mixed).
+        #[test]
+        fn swar_equals_the_loop(w in prop::collection::vec(prop_oneof![b'0'..=b'9', Just(b' '), Just(b')'), any::<u8>()], 8)) {
+            let len = w.iter().take_while(|c| c.is_ascii_digit()).count();
+            let want = (1..8).contains(&len).then(|| (w[..len].iter().fold(0u64, |v, &c| v * 10 + u64::from(c - b'0')), len));
+            let word = u64::from_le_bytes([w[0], w[1], w[2], w[3], w[4], w[5], w[6], w[7]]);
+            prop_assert_eq!(swar_digits(word), want);
+        }
+
+        /// Digit runs are counted as a byte-wise scan counts them.
+        #[test]
+        fn count_numbers_equals_the_scan(b in prop::collection::vec(prop_oneof![b'0'..=b'9', Just(b'\n'), any::<u8>()], 0..200)) {
+            let mut want = 0;
+            let mut prev = false;
+            for &c in &b {
+                want += usize::from(c.is_ascii_digit() && !prev);
+                prev = c.is_ascii_digit();
+            }
+            prop_assert_eq!(count_numbers(&b), want);
         }
 
         /// Labels: one per line, as owner and neighbour files hold them.

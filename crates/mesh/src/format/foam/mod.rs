@@ -137,10 +137,12 @@ impl PolyMesh {
                     // A plain points file is handed to the points reader, which keeps it as
                     // its text (its entry in `files` stays empty; `to_files` writes it).
                     || -> Result<_> {
-                        let (raw, plain) = load(&lp)?;
-                        Ok(match plain {
-                            Some(text) => (raw, FoamPoints::parse_owned(text).map_err(|e| e.in_file(&pp))?),
-                            None => (Vec::new(), FoamPoints::parse_owned(raw).map_err(|e| e.in_file(&pp))?),
+                        let raw = std::fs::read(&pp).map_err(io(&pp))?;
+                        Ok(if lp.2 {
+                            let text = file::maybe_gunzip(raw.clone(), true).map_err(|e| e.in_file(&pp))?;
+                            (raw, FoamPoints::parse_owned(text).map_err(|e| e.in_file(&pp))?)
+                        } else {
+                            (Vec::new(), FoamPoints::parse_owned(raw).map_err(|e| e.in_file(&pp))?)
                         })
                     },
                     || -> Result<_> {
@@ -184,8 +186,14 @@ impl PolyMesh {
         }
         .map_err(|e| e.in_file(&boundary.1))?;
         let ((face_offsets, face_points), (oh, owner), (_, neighbour)) = (faces, owner, neighbour);
-        let np_ = points.points.len();
-        if let Some(k) = first_where(&face_points, |v| v >= np_) {
+        // The mesh takes the points; the kept file compares against its records.
+        let mut points = points;
+        let mesh_points = std::mem::take(&mut points.points);
+        let np_ = mesh_points.len();
+        // A parallel scan for the largest label first; the search for the first bad one
+        // only when there is one (so also below).
+        let bad_point = face_points.par_iter().max().is_some_and(|&m| m >= np_);
+        if let Some(k) = if bad_point { first_where(&face_points, |v| v >= np_) } else { None } {
             let face = face_offsets.partition_point(|&o| o <= k).saturating_sub(1);
             return Err(Error::OutOfRange {
                 what: "face",
@@ -196,7 +204,7 @@ impl PolyMesh {
             }
             .in_file(&fp));
         }
-        let n_from_data = owner.iter().chain(neighbour.iter()).map(|&c| c + 1).max().unwrap_or(0);
+        let n_from_data = owner.par_iter().chain(neighbour.par_iter()).map(|&c| c + 1).max().unwrap_or(0);
         // The owner note gives nCells; a label beyond it is out of range.
         let n_cells = note_value(&oh.note, "nCells").unwrap_or(n_from_data);
         if n_from_data > n_cells {
@@ -217,7 +225,7 @@ impl PolyMesh {
             .in_file(&op));
         }
         let m = PolyMesh {
-            points: points.points.clone(),
+            points: mesh_points,
             face_offsets,
             face_points,
             owner,
@@ -247,7 +255,11 @@ impl PolyMesh {
                 found: ni,
             });
         }
-        for (i, f) in (0..nf).map(|i| (i, self.face(i))) {
+        // The face-by-face search for the first bad face runs only when a quick scan (of
+        // the sizes, and of the largest point label) finds one.
+        let short = self.face_offsets.par_windows(2).any(|w| w[1] < w[0].saturating_add(3));
+        let beyond = self.face_points.par_iter().max().is_some_and(|&m| m >= self.points.len());
+        for (i, f) in (0..if short || beyond { nf } else { 0 }).map(|i| (i, self.face(i))) {
             if f.len() < 3 {
                 return Err(Error::Topology(format!("face {i} has {} points; a face needs 3 or more", f.len())));
             }
@@ -261,7 +273,9 @@ impl PolyMesh {
                 });
             }
         }
-        for i in 0..ni {
+        let (own, nei, nc) = (&self.owner[..ni.min(self.owner.len())], &self.neighbour[..], self.n_cells);
+        let bad_cells = own.par_iter().zip(nei.par_iter()).any(|(&o, &n)| n >= nc || o >= nc || n == o);
+        for i in 0..if bad_cells { ni } else { 0 } {
             if self.neighbour[i] >= self.n_cells || self.owner[i] >= self.n_cells {
                 return Err(Error::OutOfRange {
                     what: "face",
@@ -289,7 +303,7 @@ impl PolyMesh {
             return Err(Error::Topology(format!("the patches cover faces up to {next}, but there are {nf} faces ({ni} internal): dangling boundary faces")));
         }
         let mut n_faces_of = vec![0u32; self.n_cells];
-        for &c in self.owner.iter().chain(&self.neighbour) {
+        for &c in self.owner.iter().chain(self.neighbour.iter()) {
             n_faces_of[c] += 1;
         }
         if let Some((c, &k)) = n_faces_of.iter().enumerate().find(|(_, &k)| k < 4) {
@@ -311,6 +325,7 @@ impl PolyMesh {
         self.n_cells
     }
     /// The point labels of face `i`.
+    #[inline]
     pub fn face(&self, i: usize) -> &[usize] {
         &self.face_points[self.face_offsets[i]..self.face_offsets[i + 1]]
     }
@@ -342,7 +357,7 @@ impl PolyMesh {
         p.points.clone_from(&self.points);
         let bytes = p.write()?;
         let (name, bytes) = if src.points_gz { ("points.gz", file::gzip(&bytes)) } else { ("points", bytes) };
-        let unchanged = p.points == src.points.points;
+        let unchanged = src.points.is_as_read(&self.points);
         Ok(src
             .files
             .iter()

@@ -52,6 +52,19 @@ fn ascii_records(lx: &mut Lexer<'_>, n: usize) -> Result<Vec<(Range<usize>, Poin
     Ok(records)
 }
 
+/// The point in the `3 × w` bytes `c` of a binary list (`w` = 8, or 4 for `scalar=32`).
+fn binary_point(c: &[u8], w: usize) -> Point3<f64> {
+    let v = |k: usize| {
+        let s = &c[k * w..(k + 1) * w];
+        if w == 8 {
+            f64::from_le_bytes(s.try_into().unwrap_or([0; 8]))
+        } else {
+            f32::from_le_bytes(s.try_into().unwrap_or([0; 4])) as f64
+        }
+    };
+    Point3::new(v(0), v(1), v(2))
+}
+
 /// An OpenFOAM points file.
 ///
 /// # Examples
@@ -104,17 +117,7 @@ impl FoamPoints {
                     what: format!("{n} points of 3×{w} bytes, but the file ends at byte {}", bytes.len()),
                 });
             }
-            for c in bytes[start..start + len].chunks_exact(3 * w) {
-                let v = |k: usize| {
-                    let s = &c[k * w..(k + 1) * w];
-                    if w == 8 {
-                        f64::from_le_bytes(s.try_into().unwrap_or([0; 8]))
-                    } else {
-                        f32::from_le_bytes(s.try_into().unwrap_or([0; 4])) as f64
-                    }
-                };
-                points.push(Point3::new(v(0), v(1), v(2)));
-            }
+            points.extend(bytes[start..start + len].chunks_exact(3 * w).map(|c| binary_point(c, w)));
             lx.pos = start + len;
             Layout::Binary(start..start + len)
         } else {
@@ -148,6 +151,19 @@ impl FoamPoints {
             binary => (file, binary),
         };
         Ok(FoamPoints { points, header, bytes, layout })
+    }
+
+    /// Whether `points` equal (as numbers) the points as read: those of the file's
+    /// records, so also when [`FoamPoints::points`] was taken or changed since.
+    pub(crate) fn is_as_read(&self, points: &[Point3<f64>]) -> bool {
+        match &self.layout {
+            Layout::Ascii(l) => l.records.len() == points.len() && l.records.iter().zip(points).all(|(r, p)| r.1 == *p),
+            Layout::Binary(r) => {
+                let w = self.header.scalar_bytes;
+                let read = self.bytes[r.clone()].chunks_exact(3 * w);
+                read.len() == points.len() && read.zip(points).all(|(c, p)| binary_point(c, w) == *p)
+            }
+        }
     }
 
     /// The file with the current points: unchanged entries as read; moved ones as
