@@ -13,7 +13,8 @@ OCCT 7.9.3 through OCP (tests/occt/setup.sh makes the venv). Command:
       * closed_extrusion: a periodic B-spline profile through six points
         (GeomAPI_Interpolate, periodic) extruded by 15: an extrusion of a closed curve
         whose seam its face wraps across.
-      Prints {"files": [...]} as JSON.
+      Prints {"files": [...]} as JSON on its last line (OCCT's writers print their
+      progress to stdout before it).
 
 Exit codes: 0 fine, 1 OCCT failed, 3 bad usage.
 """
