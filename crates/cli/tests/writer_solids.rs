@@ -37,7 +37,7 @@ fn seams_of_occt_written_solids_are_occt_topology_and_closed() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     // OCCT's writers print their progress to stdout too: the JSON is the last line.
     let text = String::from_utf8_lossy(&out.stdout);
-    let made: Value = serde_json::from_str(text.lines().filter(|l| !l.trim().is_empty()).last().unwrap()).unwrap();
+    let made: Value = serde_json::from_str(text.lines().rfind(|l| !l.trim().is_empty()).unwrap()).unwrap();
     let files: Vec<String> = made["files"].as_array().unwrap().iter().map(|f| f.as_str().unwrap().to_owned()).collect();
     assert_eq!(files.len(), 9);
     for file in &files {
