@@ -392,8 +392,12 @@ fn newton_surface<S: Surface + ?Sized>(
     tol: f64,
 ) -> Projection {
     let (uptol, vptol) = (PARAM_STEP * (ub - ua), PARAM_STEP * (vb - va));
-    let (mut u, mut v) = leave_pole(s, p, (u0, v0), ((ua, ub), (va, vb)));
+    let (mut u, mut v) = (u0, v0);
     let mut d = s.derivs(u, v, 2);
+    if let Some(start) = leave_pole(s, p, (u, v), (d[(1, 0)], d[(0, 1)]), ((ua, ub), (va, vb))) {
+        (u, v) = start;
+        d = s.derivs(u, v, 2);
+    }
     let mut dsq = (d.point() - p).norm_squared();
     for _ in 0..MAX_ITERATIONS {
         if dsq <= tol * tol {
@@ -458,43 +462,33 @@ const POLE_SCAN: usize = 64;
 /// pole, a cone's apex, a collapsed edge), every value of that parameter gives the same
 /// point, so Newton cannot move it, and the step in the other parameter leaves along
 /// whichever meridian the start happens to name, away from `p` when that one points
-/// elsewhere. The start keeps the point but takes the value of the collapsed parameter
-/// whose other partial points most towards `p` (of [`POLE_SCAN`] evenly spaced ones).
-/// Elsewhere the start is returned unchanged.
+/// elsewhere. Given the partials `(su, sv)` at the start, returns the start with the
+/// value of the collapsed parameter whose other partial points most towards `p` (of
+/// [`POLE_SCAN`] evenly spaced ones); `None` away from a pole (the common case costs
+/// nothing beyond the partials Newton already has).
 fn leave_pole<S: Surface + ?Sized>(
     s: &S,
     p: &Point3<f64>,
     (u, v): (f64, f64),
+    (su, sv): (Vector3<f64>, Vector3<f64>),
     ((ua, ub), (va, vb)): ((f64, f64), (f64, f64)),
-) -> (f64, f64) {
-    let d = s.derivs(u, v, 1);
-    let to_p = p - d.point();
-    let (nu, nv) = (d[(1, 0)].norm(), d[(0, 1)].norm());
-    if to_p.norm_squared() == 0.0 || !(nu.is_finite() && nv.is_finite()) {
-        return (u, v);
-    }
+) -> Option<(f64, f64)> {
+    let (nu, nv) = (su.norm(), sv.norm());
     // Which parameter collapses, if any: its partial is negligible beside the other's.
     let u_collapsed = nu <= 1e-9 * nv;
-    let v_collapsed = nv <= 1e-9 * nu;
-    if u_collapsed == v_collapsed {
-        return (u, v);
+    if u_collapsed == (nv <= 1e-9 * nu) || !(nu.is_finite() && nv.is_finite()) {
+        return None;
     }
+    let to_p = p - s.eval(u, v);
+    if to_p.norm_squared() == 0.0 {
+        return None;
+    }
+    // Leaving inward from a bound of the other parameter: its partial's sign as the domain allows.
+    let inward = if (u_collapsed && v >= vb) || (!u_collapsed && u >= ub) { -1.0 } else { 1.0 };
     let toward = |x: f64| -> f64 {
         let (uu, vv) = if u_collapsed { (x, v) } else { (u, x) };
         let e = s.derivs(uu, vv, 1);
         let t = if u_collapsed { e[(0, 1)] } else { e[(1, 0)] };
-        // Leaving inward from a bound: the partial's sign as the domain allows.
-        let inward = if u_collapsed {
-            if v >= vb {
-                -1.0
-            } else {
-                1.0
-            }
-        } else if u >= ub {
-            -1.0
-        } else {
-            1.0
-        };
         let n = t.norm();
         if n > 0.0 {
             inward * t.dot(&to_p) / n
@@ -503,16 +497,11 @@ fn leave_pole<S: Surface + ?Sized>(
         }
     };
     let (a, b) = if u_collapsed { (ua, ub) } else { (va, vb) };
-    let best = (0..=POLE_SCAN)
+    let (best, _) = (0..=POLE_SCAN)
         .map(|k| a + (b - a) * k as f64 / POLE_SCAN as f64)
         .map(|x| (x, toward(x)))
-        .max_by(|x, y| x.1.total_cmp(&y.1))
-        .map_or(if u_collapsed { u } else { v }, |(x, _)| x);
-    if u_collapsed {
-        (best, v)
-    } else {
-        (u, best)
-    }
+        .max_by(|x, y| x.1.total_cmp(&y.1))?;
+    Some(if u_collapsed { (best, v) } else { (u, best) })
 }
 
 #[cfg(test)]

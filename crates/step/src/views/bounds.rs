@@ -130,7 +130,6 @@ impl Ctx<'_> {
         if !(u.1 > u.0 && v.1 > v.0) {
             return Err(bad());
         }
-        let _ = Matrix4::<f64>::identity();
         Ok((u, v))
     }
 }
@@ -142,7 +141,12 @@ fn invert(g: &SurfaceGeom, p: &Point3<f64>) -> (Option<f64>, f64) {
         let d = p - f.origin();
         (d.dot(&f.x_dir()), d.dot(&f.y_dir()), d.dot(&f.z_dir()))
     };
-    let angle = |x: f64, y: f64, scale: f64| (x.hypot(y) > 1e-12 * scale.max(1e-300)).then(|| y.atan2(x));
+    // Within 1e-6 of `scale` from the axis (a sphere's pole, a cone's apex) the angle is
+    // rounding noise (the point's own rounding over its tiny distance from the axis):
+    // taken there, it widens the face's box by up to 1e-5 rad, and the face's
+    // iso-boundary then misses its edge (2.6e-5 on an OCCT fillet corner whose pole is an
+    // end of its edges). Such samples bound only the other parameter.
+    let angle = |x: f64, y: f64, scale: f64| (x.hypot(y) > 1e-6 * scale.max(1e-300)).then(|| y.atan2(x));
     match g {
         SurfaceGeom::Plane(s) => {
             let (x, y, _) = local(&s.placement);
@@ -161,13 +165,7 @@ fn invert(g: &SurfaceGeom, p: &Point3<f64>) -> (Option<f64>, f64) {
         }
         SurfaceGeom::Sphere(s) => {
             let (x, y, z) = local(s.placement());
-            // Within 1e-6 of the radius of a pole the longitude is rounding noise (the
-            // point's own rounding over its tiny distance from the axis): taken there, it
-            // widens the face's box by up to 1e-5 rad, and the face's iso-boundary then
-            // misses its edge (2.6e-5 on an OCCT fillet corner whose pole is an end of
-            // its edges). Such samples bound only the latitude.
-            let u = (x.hypot(y) > 1e-6 * s.radius()).then(|| y.atan2(x));
-            (u, z.atan2(x.hypot(y)))
+            (angle(x, y, s.radius()), z.atan2(x.hypot(y)))
         }
         SurfaceGeom::Torus(s) => {
             let (x, y, z) = local(s.placement());
