@@ -36,6 +36,8 @@ CASES = {
     "rbf_tps_1000_1e5": ("rbf", {"kernel": "thin_plate_spline", "radius": 0.5, "nc": 1000}, 100_000, True),
     "rbf_tps_4000_1e6": ("rbf", {"kernel": "thin_plate_spline", "radius": 0.5, "nc": 4000}, 1_000_000, False),
     "rbf_wendland_c2_50k_1e6": ("rbf", {"kernel": "wendland_c2", "radius": 0.08, "nc": 50_000}, 1_000_000, False),
+    # Four times the centres at the same ~105 neighbours per centre (support 0.08 / 4^(1/3)).
+    "rbf_wendland_c2_200k_1e6": ("rbf", {"kernel": "wendland_c2", "radius": 0.0504, "nc": 200_000}, 1_000_000, False),
     "idw_p2_100_1e5": ("idw", {"power": 2, "nc": 100}, 100_000, True),
 }
 

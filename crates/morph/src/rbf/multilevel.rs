@@ -121,7 +121,7 @@ impl CompactRbf {
                 std::array::from_fn(|c| if c < 3 { d[c] } else { 0.0 })
             })
             .collect();
-        let info = cg::solve(&phi, &mut b, 3, CG_TOL, cg_max_iter(n));
+        let info = cg::solve(&phi, &mut b, 3, CG_TOL, cg_max_iter(n), &cg::Precond::Jacobi);
         if std::env::var_os("CADMORPH_CG_TRACE").is_some() {
             eprintln!(
                 "cg (level): n={n} nnz={} iterations={} converged={} cond={:.3e}",
