@@ -116,7 +116,7 @@ impl Grid {
         let n = self.x.len();
         let [nx, ny, nz] = self.dims;
         let per_cell = n as f64 / (nx * ny * nz) as f64;
-        let s = ((target as f64 / per_cell.max(1e-300)).cbrt().round() as f64).max(1.0);
+        let s = ((target as f64 / per_cell.max(1e-300)).cbrt().round() as usize).max(1) as f64;
         let h = s / self.inv_h;
         let key = |i: usize| -> u64 {
             let c = [self.x[i], self.y[i], self.z[i]];
