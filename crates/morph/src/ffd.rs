@@ -406,7 +406,7 @@ impl Ffd {
         if let Some(simd) = pulp::x86::V3::try_new() {
             return pulp::Simd::vectorize(simd, v3::Deform { simd, ffd: self, power, points });
         }
-        pulp::Arch::new().dispatch(DeformSimd { ffd: self, power, points })
+        crate::simd::dispatch(DeformSimd { ffd: self, power, points })
     }
 }
 
@@ -952,7 +952,7 @@ fn lattice_sum_lanes(
     by: &[[f64; LANES]],
     bz: &[[f64; LANES]],
 ) -> [[f64; LANES]; 3] {
-    pulp::Arch::new().dispatch(LatticeSum { mu, bx, by, bz })
+    crate::simd::dispatch(LatticeSum { mu, bx, by, bz })
 }
 
 /// The lattice sum, compiled inside `pulp`'s target-feature function (the body must sit in

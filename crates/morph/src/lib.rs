@@ -66,6 +66,7 @@ pub mod idw;
 pub mod params;
 pub mod prm;
 pub mod rbf;
+mod simd;
 
 pub use affine::Affine;
 pub use deformation::{

@@ -41,10 +41,9 @@ impl Csr {
     /// `y = A x` and the per-column dots `xᵀ y`, rows in parallel, each block of rows
     /// in the widest SIMD instruction set pulp finds on the CPU ([`RowsMulDot`]).
     fn mul_dot(&self, x: &[[f64; W]], y: &mut [[f64; W]]) -> [f64; W] {
-        let arch = pulp::Arch::new();
         y.par_chunks_mut(ROWS)
             .enumerate()
-            .map(|(chunk, ys)| arch.dispatch(RowsMulDot { a: self, x, ys, first: chunk * ROWS }))
+            .map(|(chunk, ys)| crate::simd::dispatch(RowsMulDot { a: self, x, ys, first: chunk * ROWS }))
             .reduce(|| [0.0; W], add)
     }
 
@@ -62,8 +61,7 @@ impl Csr {
 /// For each stored entry `v = A[i, j]` the `W` columns of row `j` of `x` are loaded as
 /// `W / lanes` vectors and `v` is broadcast into one fused multiply-add per vector (two
 /// AVX2 instructions for `W = 8`), instead of `W` scalar multiplies and adds; the row's
-/// `W` accumulators stay in registers. (pulp 0.21 reaches AVX-512 only with its nightly
-/// `nightly-x86-v4` feature, so on stable Rust the widest path is AVX2.)
+/// `W` accumulators stay in registers. (AVX-512: one FMA per row entry.)
 struct RowsMulDot<'a> {
     a: &'a Csr,
     x: &'a [[f64; W]],
@@ -258,7 +256,7 @@ fn cholesky_packed(l: &mut [f64], n: usize) -> Option<()> {
 /// `y ← (L Lᵀ)⁻¹ y` for the `W` columns of `y`, `L` packed by rows, in the widest SIMD
 /// instruction set pulp finds ([`PackedSolve`]).
 fn solve_packed(l: &[f64], y: &mut [[f64; W]]) {
-    pulp::Arch::new().dispatch(PackedSolve { l, y });
+    crate::simd::dispatch(PackedSolve { l, y });
 }
 
 /// The two triangular solves of [`solve_packed`]: each stored entry of `L` is broadcast
@@ -549,7 +547,7 @@ mod tests {
         assert!((hi - (2.0 - 2.0 * (10.0 * pi / 11.0).cos())).abs() < 1e-12);
     }
 
-    /// The dispatched SIMD product (AVX2 or scalar, whatever this CPU has)
+    /// The dispatched SIMD product, in each instruction set this CPU has,
     /// against the scalar loop, on a random sparse symmetric pattern: the same numbers
     /// up to the rounding of fused multiply-adds.
     #[test]
@@ -572,17 +570,20 @@ mod tests {
         }
         let a = Csr { row_ptr, col, val };
         let x: Vec<[f64; W]> = (0..n).map(|_| std::array::from_fn(|_| next() - 0.5)).collect();
-        let (mut y1, mut y2) = (vec![[0.0; W]; n], vec![[0.0; W]; n]);
-        let d1 = a.mul_dot(&x, &mut y1);
+        let mut y2 = vec![[0.0; W]; n];
         let d2 = a.mul_dot_scalar(&x, &mut y2);
-        for i in 0..n {
-            for c in 0..W {
-                assert!((y1[i][c] - y2[i][c]).abs() <= 1e-13, "row {i} column {c}");
+        crate::simd::for_each_isa(|isa| {
+            let mut y1 = vec![[0.0; W]; n];
+            let d1 = a.mul_dot(&x, &mut y1);
+            for i in 0..n {
+                for c in 0..W {
+                    assert!((y1[i][c] - y2[i][c]).abs() <= 1e-13, "{isa}: row {i} column {c}");
+                }
             }
-        }
-        for c in 0..W {
-            assert!((d1[c] - d2[c]).abs() <= 1e-10 * d2[c].abs().max(1.0));
-        }
+            for c in 0..W {
+                assert!((d1[c] - d2[c]).abs() <= 1e-10 * d2[c].abs().max(1.0), "{isa}");
+            }
+        });
     }
 
     /// Pseudo-random numbers in [0, 1) for the tests (a 64-bit LCG).
@@ -611,14 +612,16 @@ mod tests {
         }
         cholesky_packed(&mut l, n).expect("positive definite");
         let rhs: Vec<[f64; W]> = (0..n).map(|_| std::array::from_fn(|_| next() - 0.5)).collect();
-        let mut x = rhs.clone();
-        solve_packed(&l, &mut x);
-        for i in 0..n {
-            for c in 0..W {
-                let ax: f64 = (0..n).map(|j| a(i, j) * x[j][c]).sum();
-                assert!((ax - rhs[i][c]).abs() < 1e-12, "row {i} column {c}: {ax} vs {}", rhs[i][c]);
+        crate::simd::for_each_isa(|isa| {
+            let mut x = rhs.clone();
+            solve_packed(&l, &mut x);
+            for i in 0..n {
+                for c in 0..W {
+                    let ax: f64 = (0..n).map(|j| a(i, j) * x[j][c]).sum();
+                    assert!((ax - rhs[i][c]).abs() < 1e-12, "{isa}: row {i} column {c}: {ax} vs {}", rhs[i][c]);
+                }
             }
-        }
+        });
         // The smallest eigenvalue of A is at least 1 (B Bᵀ ⪰ 0), and the estimate sees it.
         let lo = smallest_eigenvalue(&l, n);
         assert!((1.0 - 1e-9..50.0).contains(&lo), "{lo}");

@@ -3,7 +3,7 @@
 //! Each kernel is written as a function of the squared distance ([`Phi`]) so that no square
 //! root is taken where none is needed, and the thin-plate logarithm uses [`ln_minus`], a
 //! branch-free `ln` that the compiler vectorises (the C library's `log` is a scalar call).
-//! The loops run inside `pulp::Arch::dispatch`, which compiles them for AVX2/FMA when the
+//! The loops run inside `crate::simd::dispatch`, which compiles them for AVX-512 or AVX2/FMA when the
 //! CPU has them.
 
 use nalgebra::Point3;
@@ -261,8 +261,8 @@ impl WithPhi for SumsJob<'_> {
     fn run<P: Phi>(self, phi: P, scale: f64) {
         let SumsJob { centres, pts, out } = self;
         match centres {
-            Source::All(c) => pulp::Arch::new().dispatch(DenseSimd { c, pts, out: &mut *out, phi }),
-            Source::Grid(grid) => pulp::Arch::new().dispatch(GridSums { grid, pts, out: &mut *out, phi }),
+            Source::All(c) => crate::simd::dispatch(DenseSimd { c, pts, out: &mut *out, phi }),
+            Source::Grid(grid) => crate::simd::dispatch(GridSums { grid, pts, out: &mut *out, phi }),
         }
         if scale != 1.0 {
             out.iter_mut().for_each(|o| *o = o.map(|v| v * scale));
@@ -335,7 +335,7 @@ impl WithPhi for Column<'_> {
     type Output = ();
 
     fn run<P: Phi>(self, phi: P, scale: f64) {
-        pulp::Arch::new().dispatch(ColumnSimd { col: self, phi, scale })
+        crate::simd::dispatch(ColumnSimd { col: self, phi, scale })
     }
 }
 
@@ -517,23 +517,29 @@ mod tests {
             })
             .chain([Point3::new(c.x[0], c.y[0], c.z[0]), Point3::new(c.x[m - 1], c.y[m - 1], c.z[m - 1])])
             .collect();
-        for k in kernels {
+        crate::simd::for_each_isa(|isa| sums_match(isa, &kernels, &c, &pts, m));
+    }
+
+    /// The dense sums and kernel columns of [`sums_match_scalar_kernels`] against the scalar
+    /// kernel, in one instruction set.
+    fn sums_match(isa: &str, kernels: &[Kernel], c: &Centres, pts: &[Point3<f64>], m: usize) {
+        for &k in kernels {
             let mut s = vec![[0.0; 3]; pts.len()];
-            dense_sums(&k, &c, &pts, &mut s);
+            dense_sums(&k, c, pts, &mut s);
             let mut col = vec![0.0; m];
             for (i, p) in pts.iter().enumerate() {
-                kernel_column(&k, &c, *p, &mut col);
+                kernel_column(&k, c, *p, &mut col);
                 for comp in 0..3 {
                     let mut e = 0.0;
                     let mut mag = 0.0;
                     for j in 0..m {
                         let r = ((p.x - c.x[j]).powi(2) + (p.y - c.y[j]).powi(2) + (p.z - c.z[j]).powi(2)).sqrt();
                         let phi = k.eval(r);
-                        assert!((col[j] - phi).abs() <= 1e-14 * (1.0 + phi.abs()), "{k:?}: {} vs {phi}", col[j]);
+                        assert!((col[j] - phi).abs() <= 1e-14 * (1.0 + phi.abs()), "{isa} {k:?}: {} vs {phi}", col[j]);
                         e += c.g[comp][j] * phi;
                         mag += (c.g[comp][j] * phi).abs();
                     }
-                    assert!((s[i][comp] - e).abs() < 1e-14 * (1.0 + mag), "{k:?}: {} vs {e}", s[i][comp]);
+                    assert!((s[i][comp] - e).abs() < 1e-14 * (1.0 + mag), "{isa} {k:?}: {} vs {e}", s[i][comp]);
                 }
             }
         }
