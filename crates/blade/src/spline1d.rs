@@ -26,7 +26,7 @@ impl InterpolatingSpline {
     /// [`Error::Geometry`] unless `k` is odd, `x` strictly increases and `m > k`.
     pub fn splrep(x: &[f64], y: &[f64], k: usize) -> Result<Self> {
         let m = x.len();
-        if k % 2 == 0 || m <= k || y.len() != m {
+        if k.is_multiple_of(2) || m <= k || y.len() != m {
             return Err(Error::Geometry(format!("splrep: need odd k < m = {m} and as many y as x (k = {k})")));
         }
         if x.windows(2).any(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater)) {

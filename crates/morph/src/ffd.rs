@@ -608,7 +608,7 @@ impl pulp::WithSimd for DeformSimd<'_> {
         let DeformSimd { ffd, power, points } = self;
         let mut bad = usize::MAX;
         let w = S::F64_LANES;
-        assert!(w <= MAX_W && SUB % w == 0, "unsupported SIMD width {w}");
+        assert!(w <= MAX_W && SUB.is_multiple_of(w), "unsupported SIMD width {w}");
         let (o, inv, t) = (ffd.box_origin, ffd.inverse, ffd.face_tol);
         let mut pass = Pass::new(simd.splat_f64s(0.0));
         for (k, sub) in points.chunks_mut(SUB).enumerate() {

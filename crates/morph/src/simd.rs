@@ -34,22 +34,6 @@ pub(crate) fn dispatch<Op: pulp::WithSimd>(op: Op) -> Op::Output {
     }
 }
 
-#[cfg(test)]
-mod forced {
-    use std::sync::atomic::AtomicU8;
-    use std::sync::Mutex;
-
-    pub const WIDEST: u8 = 0;
-    pub const SCALAR: u8 = 1;
-    pub const V3: u8 = 2;
-    pub const V4: u8 = 3;
-    /// The forced instruction set (tests running at the same time may see it too: every
-    /// path computes the same values, so they only run a different one).
-    pub static FORCE: AtomicU8 = AtomicU8::new(WIDEST);
-    /// One forcing test at a time.
-    pub static LOCK: Mutex<()> = Mutex::new(());
-}
-
 /// Calls `f` once per instruction set this CPU has (scalar, then AVX2/FMA and AVX-512 where
 /// present), with [`dispatch`] forced to it; `f` gets its name.
 #[cfg(test)]
@@ -78,4 +62,20 @@ pub(crate) fn for_each_isa(mut f: impl FnMut(&'static str)) {
         let _reset = Reset;
         f(name);
     }
+}
+
+#[cfg(test)]
+mod forced {
+    use std::sync::atomic::AtomicU8;
+    use std::sync::Mutex;
+
+    pub const WIDEST: u8 = 0;
+    pub const SCALAR: u8 = 1;
+    pub const V3: u8 = 2;
+    pub const V4: u8 = 3;
+    /// The forced instruction set (tests running at the same time may see it too: every
+    /// path computes the same values, so they only run a different one).
+    pub static FORCE: AtomicU8 = AtomicU8::new(WIDEST);
+    /// One forcing test at a time.
+    pub static LOCK: Mutex<()> = Mutex::new(());
 }

@@ -37,7 +37,7 @@ fn bezier_reduce(q: &[Hom]) -> Vec<Hom> {
     r[0] = q[0];
     r[p - 1] = q[p];
     // Left recursion for i ≤ left_end, right recursion for i ≥ right_start.
-    let (left_end, right_start) = if p % 2 == 0 { ((p - 2) / 2, p / 2) } else { ((p - 1) / 2, (p - 1) / 2) };
+    let (left_end, right_start) = if p.is_multiple_of(2) { ((p - 2) / 2, p / 2) } else { ((p - 1) / 2, (p - 1) / 2) };
     for i in 1..=left_end.min(p - 1) {
         r[i] = (q[i] - r[i - 1] * alpha(i)) / (1.0 - alpha(i));
     }

@@ -521,7 +521,7 @@ impl Document {
 
 fn weight_text(w: &[f64], rows: Option<usize>) -> String {
     match rows {
-        Some(n_u) if n_u > 0 && w.len() % n_u == 0 => {
+        Some(n_u) if n_u > 0 && w.len().is_multiple_of(n_u) => {
             let n_v = w.len() / n_u;
             format!(
                 "({})",

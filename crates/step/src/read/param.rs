@@ -261,7 +261,7 @@ pub fn decode_string(raw: &str) -> String {
                 continue;
             };
             let digits = &rest[4..end];
-            if digits.len() % width != 0 || digits.chunks(width).any(|c| hex(c).is_none()) {
+            if !digits.len().is_multiple_of(width) || digits.chunks(width).any(|c| hex(c).is_none()) {
                 out.push('\\');
                 i += 1;
                 continue;
