@@ -164,12 +164,10 @@ impl BlockJacobi {
         for (k, &i) in order.iter().enumerate() {
             inv[i as usize] = k as u32;
         }
-        let blocks: Option<Vec<(Vec<f64>, f64, f64)>> = bounds
-            .windows(2)
-            .collect::<Vec<_>>()
+        let blocks: Option<Vec<(Vec<f64>, f64, f64)>> = (0..bounds.len() - 1)
             .into_par_iter()
-            .map(|w| {
-                let (lo, hi) = (w[0], w[1]);
+            .map(|b| {
+                let (lo, hi) = (bounds[b], bounds[b + 1]);
                 let bs = hi - lo;
                 let mut l = vec![0.0; packed(bs)];
                 let mut gershgorin: f64 = 0.0;
@@ -367,21 +365,22 @@ pub(crate) fn solve(a: &Csr, b: &mut [[f64; W]], m: usize, tol: f64, max_iter: u
         return CgInfo { iterations: 0, converged: false, condition: f64::INFINITY };
     }
     let dinv: Vec<f64> = d.iter().map(|v| 1.0 / v).collect();
-    let blocks = match pre {
-        Precond::Jacobi => None,
-        Precond::Blocks(parts) => Some(parts),
-    };
-    let apply = |r: &[[f64; W]], z: &mut [[f64; W]], scratch: &mut Vec<[f64; W]>, parts: &[BlockJacobi]| {
-        for (k, part) in parts.iter().enumerate() {
-            part.apply(r, z, scratch, k > 0);
-        }
+    // The block partitions; none for Jacobi, whose z = D⁻¹r is fused into the update.
+    let parts: &[BlockJacobi] = match pre {
+        Precond::Jacobi => &[],
+        Precond::Blocks(parts) => parts,
     };
     let mut scratch = Vec::new();
+    let mut apply_blocks = |r: &[[f64; W]], z: &mut [[f64; W]]| {
+        for (k, part) in parts.iter().enumerate() {
+            part.apply(r, z, &mut scratch, k > 0);
+        }
+    };
     let mut x = vec![[0.0; W]; n];
     let mut r = b.to_vec();
     let mut z: Vec<[f64; W]> = r.iter().zip(&dinv).map(|(ri, &s)| ri.map(|v| v * s)).collect();
-    if let Some(parts) = blocks {
-        apply(&r, &mut z, &mut scratch, parts);
+    if !parts.is_empty() {
+        apply_blocks(&r, &mut z);
     }
     let mut p = z.clone();
     let mut q = vec![[0.0; W]; n];
@@ -420,22 +419,28 @@ pub(crate) fn solve(a: &Csr, b: &mut [[f64; W]], m: usize, tol: f64, max_iter: u
             .enumerate()
             .map(|(chunk, ((xs, rs), zs))| {
                 let (mut s, mut t) = ([0.0; W], [0.0; W]);
+                let jacobi = parts.is_empty();
                 for (k, ((xi, ri), zi)) in xs.iter_mut().zip(rs.iter_mut()).zip(zs.iter_mut()).enumerate() {
                     let i = chunk * ROWS + k;
-                    let (pi, qi, di) = (&p[i], &q[i], dinv[i]);
+                    let (pi, qi) = (&p[i], &q[i]);
                     for c in 0..W {
                         xi[c] += alpha[c] * pi[c];
                         ri[c] -= alpha[c] * qi[c];
-                        zi[c] = ri[c] * di;
-                        s[c] += ri[c] * zi[c];
                         t[c] += ri[c] * ri[c];
+                    }
+                    if jacobi {
+                        let di = dinv[i];
+                        for c in 0..W {
+                            zi[c] = ri[c] * di;
+                            s[c] += ri[c] * zi[c];
+                        }
                     }
                 }
                 (s, t)
             })
             .reduce(|| ([0.0; W], [0.0; W]), |a, b| (add(a.0, b.0), add(a.1, b.1)));
-        if let Some(parts) = blocks {
-            apply(&r, &mut z, &mut scratch, parts);
+        if !parts.is_empty() {
+            apply_blocks(&r, &mut z);
             rz_new = dots(&r, &z);
         }
         let beta: [f64; W] = std::array::from_fn(|c| if active[c] { rz_new[c] / rz[c] } else { 0.0 });
@@ -476,7 +481,7 @@ pub(crate) fn solve(a: &Csr, b: &mut [[f64; W]], m: usize, tol: f64, max_iter: u
             condition = condition.max(k);
         }
     }
-    if let Some(parts) = blocks {
+    if !parts.is_empty() {
         // M⁻¹ = Σₚ Mₚ⁻¹: λmax(M⁻¹) ≤ Σₚ 1/λmin(Mₚ) and λmin(M⁻¹) ≥ Σₚ 1/λmax(Mₚ).
         let inv_hi: f64 = parts.iter().map(|p| 1.0 / p.smallest).sum();
         let inv_lo: f64 = parts.iter().map(|p| 1.0 / p.largest).sum();
@@ -554,11 +559,7 @@ mod tests {
     fn simd_product_matches_scalar() {
         let n: usize = 3000;
         let (mut row_ptr, mut col, mut val) = (vec![0], vec![], vec![]);
-        let mut seed: u64 = 12345;
-        let mut next = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = lcg(12345);
         for i in 0..n {
             for j in i.saturating_sub(40)..(i + 41).min(n) {
                 if (i * 7 + j * 13) % 3 != 0 || i == j {
@@ -644,7 +645,9 @@ mod tests {
     #[test]
     fn partitions_cover_every_row_once() {
         let (grid, _) = wendland(3000, 0.15, 5);
-        for (target, (order, bounds)) in [(60, grid.blocks(60)), (60, grid.staggered_blocks(60)), (7, grid.blocks(7))] {
+        for (target, (order, bounds)) in
+            [(60, grid.blocks(60, false)), (60, grid.blocks(60, true)), (7, grid.blocks(7, false))]
+        {
             let mut seen = vec![false; 3000];
             for &i in &order {
                 assert!(!std::mem::replace(&mut seen[i as usize], true), "row {i} twice");
@@ -665,7 +668,7 @@ mod tests {
         let mut next = lcg(12);
         let b: Vec<[f64; W]> =
             (0..n).map(|_| std::array::from_fn(|c| if c < 5 { next() - 0.5 } else { 0.0 })).collect();
-        let parts: Vec<BlockJacobi> = [grid.blocks(60), grid.staggered_blocks(60)]
+        let parts: Vec<BlockJacobi> = [grid.blocks(60, false), grid.blocks(60, true)]
             .into_iter()
             .map(|(order, bounds)| BlockJacobi::new(&a, order, bounds).expect("blocks factor"))
             .collect();

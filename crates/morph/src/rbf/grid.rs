@@ -72,69 +72,35 @@ impl Grid {
     }
 
     /// Groups of sorted centres that lie close together, for a block preconditioner: the
-    /// cells are taken in cubes of `s × s × s` (`s` chosen so a cube holds about `target`
-    /// centres), a cube's centres are one group, and a group over `2 · target` is cut into
-    /// runs of `target` (in cell order, so still compact). Returns the sorted positions in
-    /// group order and the group bounds in it.
-    pub fn blocks(&self, target: usize) -> (Vec<u32>, Vec<usize>) {
+    /// cubes of `s × s × s` cells (`s` chosen so a cube holds about `target` centres),
+    /// shifted by half a cube along each axis when `staggered` (the second partition of
+    /// an additive Schwarz preconditioner: centres on either side of a face of the first
+    /// partition's cubes share a group there). A cube's centres are one group, and a
+    /// group over `2 · target` is cut into runs of `target` (in cell order, so still
+    /// compact). Returns the sorted positions in group order and the group bounds in it.
+    pub fn blocks(&self, target: usize, staggered: bool) -> (Vec<u32>, Vec<usize>) {
         let n = self.x.len();
         let [nx, ny, nz] = self.dims;
         let per_cell = n as f64 / (nx * ny * nz) as f64;
         let s = ((target as f64 / per_cell.max(1e-300)).cbrt().round() as usize).max(1);
-        let mut order = Vec::with_capacity(n);
-        let mut bounds = vec![0];
-        for bz in (0..nz).step_by(s) {
-            for by in (0..ny).step_by(s) {
-                for bx in (0..nx).step_by(s) {
-                    let first = order.len();
-                    for iz in bz..(bz + s).min(nz) {
-                        for iy in by..(by + s).min(ny) {
-                            let row = (iz * ny + iy) * nx;
-                            let (a, b) = (self.start[row + bx] as usize, self.start[row + (bx + s).min(nx)] as usize);
-                            order.extend((a..b).map(|i| i as u32));
-                        }
-                    }
-                    let len = order.len() - first;
-                    if len == 0 {
-                        continue;
-                    }
-                    let pieces = if len > 2 * target { len.div_ceil(target) } else { 1 };
-                    for k in 1..=pieces {
-                        bounds.push(first + len * k / pieces);
-                    }
-                }
-            }
-        }
-        (order, bounds)
-    }
-
-    /// As [`Grid::blocks`] with one group per cube of `s × s × s` cells of a grid shifted
-    /// by half a cube along each axis (the second partition of an additive Schwarz
-    /// preconditioner: centres on either side of a face of the first partition's cubes
-    /// share a group here).
-    pub fn staggered_blocks(&self, target: usize) -> (Vec<u32>, Vec<usize>) {
-        let n = self.x.len();
-        let [nx, ny, nz] = self.dims;
-        let per_cell = n as f64 / (nx * ny * nz) as f64;
-        let s = ((target as f64 / per_cell.max(1e-300)).cbrt().round() as usize).max(1) as f64;
-        let h = s / self.inv_h;
-        let key = |i: usize| -> u64 {
-            let c = [self.x[i], self.y[i], self.z[i]];
-            let k: [u64; 3] = std::array::from_fn(|a| ((c[a] - self.lo[a]) / h + 0.5).floor().max(0.0) as u64);
-            (k[2] << 42) | (k[1] << 21) | k[0]
-        };
-        let keys: Vec<u64> = (0..n).map(key).collect();
+        let (inv_side, shift) = (self.inv_h / s as f64, if staggered { 0.5 } else { 0.0 });
+        let keys: Vec<u64> = (0..n)
+            .map(|i| {
+                let c = [self.x[i], self.y[i], self.z[i]];
+                let k: [u64; 3] =
+                    std::array::from_fn(|a| ((c[a] - self.lo[a]) * inv_side + shift).floor().max(0.0) as u64);
+                (k[2] << 42) | (k[1] << 21) | k[0]
+            })
+            .collect();
         let mut order: Vec<u32> = (0..n as u32).collect();
-        order.sort_by_key(|&i| (keys[i as usize], i));
+        order.sort_unstable_by_key(|&i| (keys[i as usize], i));
         let mut bounds = vec![0];
         let mut first = 0;
         for p in 1..=n {
             if p == n || keys[order[p] as usize] != keys[order[first] as usize] {
                 let len = p - first;
                 let pieces = if len > 2 * target { len.div_ceil(target) } else { 1 };
-                for k in 1..=pieces {
-                    bounds.push(first + len * k / pieces);
-                }
+                bounds.extend((1..=pieces).map(|k| first + len * k / pieces));
                 first = p;
             }
         }

@@ -1049,7 +1049,7 @@ fn block_preconditioner(grid: &Grid, phi: &cg::Csr) -> cg::Precond {
     let parts = std::env::var("CADMORPH_CG_PARTS").ok().and_then(|v| v.parse().ok()).unwrap_or(2usize);
     let mut out = Vec::new();
     for p in 0..parts.clamp(1, 2) {
-        let (order, bounds) = if p == 0 { grid.blocks(target) } else { grid.staggered_blocks(target) };
+        let (order, bounds) = grid.blocks(target, p == 1);
         match cg::BlockJacobi::new(phi, order, bounds) {
             Some(b) => out.push(b),
             None => return cg::Precond::Jacobi,
