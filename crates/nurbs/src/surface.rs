@@ -1090,10 +1090,34 @@ impl Surface for NurbsSurface {
         self.derivs_general(u, v, n)
     }
 
+    /// The unit normal `S_u × S_v`; at a degenerate point (a pole, a cone's apex: one
+    /// partial vanishes, `|S_u| ≤ 1e-8 |S_v|` or the converse) its limit from inside the
+    /// domain, `±S_uv × S_v` (or `±S_u × S_uv`): near a pole at `v₀`,
+    /// `S_u(u, v) ≈ (v − v₀) S_uv`, the sign that of `v − v₀` on the domain's side.
+    /// The cross product of a partial that is only rounding noise (1e-15 of the other)
+    /// points anywhere in the tangent plane; the limit is what OCCT's `CSLib::Normal`
+    /// takes from the higher derivatives there. `None` where both forms vanish.
     fn normal(&self, u: f64, v: f64) -> Option<Unit<Vector3<f64>>> {
         let d = self.eval_d1(u, v);
+        let (nu, nv) = (d.du.norm(), d.dv.norm());
+        if !(nu.is_finite() && nv.is_finite()) {
+            return None;
+        }
+        let (du_pole, dv_pole) = (nu <= DEGENERATE * nv, nv <= DEGENERATE * nu);
+        if du_pole != dv_pole {
+            let (ud, vd) = self.domain();
+            let inward = |x: f64, r: &RangeInclusive<f64>| if x - r.start() <= r.end() - x { 1.0 } else { -1.0 };
+            let dd = self.derivs_general(u, v, 2);
+            let n = if du_pole {
+                dd[(1, 1)].cross(&dd[(0, 1)]) * inward(v, &vd)
+            } else {
+                dd[(1, 0)].cross(&dd[(1, 1)]) * inward(u, &ud)
+            };
+            let scale = dd[(1, 1)].norm() * nu.max(nv);
+            return (n.norm() > 1e-12 * scale && scale > 0.0).then(|| Unit::new_normalize(n));
+        }
         let n = d.du.cross(&d.dv);
-        let scale = d.du.norm() * d.dv.norm();
+        let scale = nu * nv;
         let m = n.norm();
         if m.is_nan() || m <= 1e-12 * scale || scale == 0.0 {
             return None;
@@ -1101,6 +1125,11 @@ impl Surface for NurbsSurface {
         Unit::try_new(n, 0.0)
     }
 }
+
+/// A partial derivative at most this fraction of the other is taken as vanishing
+/// ([`NurbsSurface`]'s `normal`): the direct cross product's error is `ε / ρ` for the ratio
+/// `ρ` of the two partials, the limit form's `O(ρ)`; they balance near `√ε ≈ 1e-8`.
+const DEGENERATE: f64 = 1e-8;
 
 /// Whether any weight is zero (a control point at infinity).
 fn has_zero_weight(weights: Option<&[f64]>) -> bool {
