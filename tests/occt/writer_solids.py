@@ -16,6 +16,17 @@ OCCT 7.9.3 through OCP (tests/occt/setup.sh makes the venv). Command:
       Prints {"files": [...]} as JSON on its last line (OCCT's writers print their
       progress to stdout before it).
 
+  make DIR --more
+      The three above and, in the same three forms, solids whose faces straddle their
+      closed surfaces' seams or end at poles (for the volume checks):
+      * capsule: a cylinder (r 5, h 20) fused with a sphere at each end, tilted: two
+        hemispheres bounded by a circle and a seam edge used twice;
+      * cone: a cone (r 8, apex at height 12) about a tilted axis;
+      * nose: a B-spline profile from the axis to the axis revolved a whole turn (a
+        surface of revolution with two poles), turned and moved;
+      * ring_sector: a 6 x 4 rectangle 10 from the axis revolved by 270 degrees, turned
+        so that its faces cross the surfaces' u = 0.
+
 Exit codes: 0 fine, 1 OCCT failed, 3 bad usage.
 """
 import json
@@ -62,8 +73,51 @@ def shapes():
     return out
 
 
+def more_shapes():
+    from OCP.gp import gp_Pnt, gp_Dir, gp_Ax1, gp_Ax2, gp_Vec, gp_Trsf
+    from OCP.BRepPrimAPI import (BRepPrimAPI_MakeCylinder, BRepPrimAPI_MakeSphere,
+                                 BRepPrimAPI_MakeCone, BRepPrimAPI_MakeRevol)
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Fuse
+    from OCP.BRepBuilderAPI import (BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeWire,
+                                    BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakePolygon,
+                                    BRepBuilderAPI_Transform)
+    from OCP.TColgp import TColgp_HArray1OfPnt
+    from OCP.GeomAPI import GeomAPI_Interpolate
+
+    def placed(shape, axis, angle, move):
+        t = gp_Trsf()
+        t.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(*axis)), angle)
+        t.SetTranslationPart(gp_Vec(*move))
+        return BRepBuilderAPI_Transform(shape, t, True).Shape()
+
+    out = {}
+    body = BRepPrimAPI_MakeCylinder(5, 20).Shape()
+    for z in (0, 20):
+        body = BRepAlgoAPI_Fuse(body, BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, z), 5).Shape()).Shape()
+    out["capsule"] = placed(body, (1, -2, 0.5), 0.9, (7, 3, -4))
+    out["cone"] = BRepPrimAPI_MakeCone(gp_Ax2(gp_Pnt(2, 1, 0), gp_Dir(1, 1, 2)), 8, 0, 12).Shape()
+    # A profile in the xz-plane from the axis (x = 0) out and back, closed by the axis.
+    prof = [(0, 0), (4, 1), (6, 5), (5, 10), (2, 14), (0, 15)]
+    pts = TColgp_HArray1OfPnt(1, len(prof))
+    for i, (x, z) in enumerate(prof):
+        pts.SetValue(i + 1, gp_Pnt(x, 0, z))
+    ip = GeomAPI_Interpolate(pts, False, 1e-9)
+    ip.Perform()
+    wire = BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(ip.Curve()).Edge(),
+                                   BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, 15), gp_Pnt(0, 0, 0)).Edge()).Wire()
+    nose = BRepPrimAPI_MakeRevol(BRepBuilderAPI_MakeFace(wire).Face(),
+                                 gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 2 * math.pi).Shape()
+    out["nose"] = placed(nose, (0.3, 1, 0.2), 2.2, (-5, 8, 1))
+    rect = BRepBuilderAPI_MakePolygon(gp_Pnt(10, 0, 0), gp_Pnt(16, 0, 0), gp_Pnt(16, 0, 4),
+                                      gp_Pnt(10, 0, 4), True).Wire()
+    ring = BRepPrimAPI_MakeRevol(BRepBuilderAPI_MakeFace(rect).Face(),
+                                 gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 1.5 * math.pi).Shape()
+    out["ring_sector"] = placed(ring, (0, 0, 1), -2.5, (0, 0, 0))
+    return out
+
+
 def main(argv):
-    if len(argv) != 2 or argv[0] != "make":
+    if len(argv) not in (2, 3) or argv[0] != "make" or argv[2:] not in ([], ["--more"]):
         print(__doc__, file=sys.stderr)
         return 3
     from OCP.STEPControl import STEPControl_Writer, STEPControl_AsIs
@@ -73,7 +127,10 @@ def main(argv):
     out = argv[1]
     os.makedirs(out, exist_ok=True)
     files = []
-    for name, s in shapes().items():
+    solids = shapes()
+    if argv[2:] == ["--more"]:
+        solids.update(more_shapes())
+    for name, s in solids.items():
         Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
         w = STEPControl_Writer()
         w.Transfer(s, STEPControl_AsIs)

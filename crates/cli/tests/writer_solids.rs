@@ -67,7 +67,10 @@ fn seams_of_occt_written_solids_are_occt_topology_and_closed() {
             // read 0.85° (STEP), 3e-3° (IGES faces) and 180° (IGES B-rep closing seams).
             let angle = e["g1_angle_unoriented_deg"]["max"].as_f64().unwrap();
             if e["sharp"].as_bool().unwrap() {
-                assert!(file.contains("closed_extrusion") && (angle - 90.0).abs() < 1e-6, "{file}: sharp edge {a}-{b} at {angle}°");
+                assert!(
+                    file.contains("closed_extrusion") && (angle - 90.0).abs() < 1e-6,
+                    "{file}: sharp edge {a}-{b} at {angle}°"
+                );
                 sharp += 1;
             } else {
                 assert!(angle <= 1e-6, "{file}: faces {a} and {b} meet at {angle:e}° on a tangent edge");

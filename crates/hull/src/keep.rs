@@ -86,7 +86,7 @@ pub fn keep(
         let inside = |p: &nalgebra::Point3<f64>| !ffd.param_weights(p).weights.is_empty();
         match base.methods[i] {
             // Trimmed faces keep their share only while the FFD leaves them alone.
-            FaceMethod::Planar | FaceMethod::Trimmed | FaceMethod::Rectangle(_) => {
+            FaceMethod::Planar | FaceMethod::Trimmed | FaceMethod::Rectangle(_) | FaceMethod::Reseamed { .. } => {
                 let touched = face.surface.control_points().iter().any(inside)
                     || by_face[i].iter().any(|b| b.curve.control_points().iter().any(inside));
                 if touched {

@@ -22,4 +22,4 @@ pub use dims::{change_dimensions, dimensions, extent, Dimensions, DimsChange, Di
 pub use error::{Error, Result};
 pub use keep::{keep, Keep, KeepReport};
 pub use lackenby::{lcb_shift, section_shift, LcbReport, SectionShift};
-pub use volume::{enclosed, Enclosed, FaceMethod, Moments};
+pub use volume::{enclosed, Enclosed, FaceMethod, Moments, OnReseamed};

@@ -29,8 +29,11 @@
 //!   Gauss–Legendre along each curve span split in eight. Not exact (the preimages are
 //!   not polynomial), but converged far below the tolerances of CAD files.
 //!
-//! A face whose curves do not lie on its surface, or whose loops cross a periodic
-//! surface's seam, is refused ([`Error::TrimmedFace`]).
+//! A face whose loops cross a closed surface's seam (a sphere octant across `u = 0`, a
+//! torus whose seam edges are not its surface's) is integrated on the same surface with
+//! its seam moved outside the face ([`FaceMethod::Reseamed`]). A face whose curves do not
+//! lie on its surface, or that no seam position puts inside one period, is refused
+//! ([`Error::TrimmedFace`]).
 
 use cadmorph_brep::{BoundCurve, Face};
 use cadmorph_nurbs::math::{Point3, Vector3};
@@ -54,6 +57,27 @@ pub enum FaceMethod {
     /// iso-parameter lines (a cylinder or cone between two circles, whose loops close
     /// only across the periodic seam), see `iso_box`.
     Rectangle([f64; 4]),
+    /// On its closed surface with the seam moved (`NurbsSurface::reseamed_u`/`_v`) to
+    /// `seam` (u, v; `None`: kept) so that the face no longer crosses it: a sphere
+    /// octant or fillet whose loops straddle `u = 0`, a torus or hemisphere whose own
+    /// seam edges lie elsewhere than the surface's. See `reseamed_method`.
+    Reseamed {
+        /// The new seam parameters in u and v.
+        seam: [Option<f64>; 2],
+        /// The method on the reseamed surface.
+        method: OnReseamed,
+    },
+}
+
+/// How a face is integrated on its reseamed surface ([`FaceMethod::Reseamed`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum OnReseamed {
+    /// Over the whole reseamed domain.
+    Natural,
+    /// Over a box of the reseamed parameters.
+    Rectangle([f64; 4]),
+    /// Green's theorem along the loops' preimages on the reseamed surface.
+    Trimmed,
 }
 
 /// Volume and first moments of an enclosed solid (or one face's share of them), and the
@@ -540,12 +564,88 @@ fn planar_moments(
 
 /// The share of a curved face trimmed inside its surface (see the module docs),
 /// `sign` turning `S_u × S_v` outward.
-fn trimmed_moments(face: &Face, bounds: &[&BoundCurve], sign: f64, size: f64) -> Result<Moments> {
-    let s = &face.surface;
-    let refuse = || Error::TrimmedFace { face: face.entity, kind: face.type_name.clone() };
+/// One quadrature node of a loop's preimage: `(u, v, w·dv/dt)`.
+type Node = (f64, f64, f64);
+
+/// The preimages on `s` of a face's loops, as quadrature nodes along each loop (Gauss per
+/// curve span split in eight): `None` where a curve leaves the surface, the walk jumps
+/// across a closed surface's seam, or a loop's preimage does not close.
+fn preimages(s: &NurbsSurface, lps: &[Vec<Piece>], size: f64) -> Option<Vec<Vec<Node>>> {
+    let tol = 1e-6 * size;
     let (ud, vd) = s.domain();
-    let _ = vd;
     let (u0, u1) = (*ud.start(), *ud.end());
+    let mut out = Vec::with_capacity(lps.len());
+    for lp in lps {
+        let mut nodes_out = Vec::new();
+        let mut last: Option<(f64, f64)> = None;
+        let mut first: Option<(f64, f64)> = None;
+        for piece in lp {
+            let c = &piece.curve.curve;
+            let knots = c.knots().distinct().0;
+            let (a, b) = (piece.curve.range.0.min(piece.curve.range.1), piece.curve.range.0.max(piece.curve.range.1));
+            let dir = if piece.curve.range.1 >= piece.curve.range.0 { 1.0 } else { -1.0 };
+            let sense = if piece.forward { dir } else { -dir };
+            let mut nodes = span_rule(&knots, a, b, 12, 8);
+            if sense < 0.0 {
+                nodes.reverse();
+            }
+            for (tau, w) in nodes {
+                let d = c.derivs(tau, 1);
+                let pr = s.project_near(&Point3::from(d[0]), last, 1e-12 * size, 1e-6 * size);
+                if pr.distance_sq.sqrt() > tol {
+                    return None;
+                }
+                if let Some(l) = last {
+                    if (pr.u - l.0).abs() > 0.5 * (u1 - u0) && !short_path(s, l, (pr.u, pr.v)) {
+                        // The loop crosses a periodic surface's seam.
+                        return None;
+                    }
+                }
+                last = Some((pr.u, pr.v));
+                first = first.or(last);
+                let sd = s.eval_d1(pr.u, pr.v);
+                // C' = S_u u' + S_v v', least squares.
+                let (a11, a12, a22) = (sd.du.dot(&sd.du), sd.du.dot(&sd.dv), sd.dv.dot(&sd.dv));
+                let (b1, b2) = (sd.du.dot(&d[1]), sd.dv.dot(&d[1]));
+                let det = a11 * a22 - a12 * a12;
+                if det.abs() <= f64::MIN_POSITIVE {
+                    return None;
+                }
+                nodes_out.push((pr.u, pr.v, (a11 * b2 - a12 * b1) / det * w * sense));
+            }
+        }
+        // A loop closed in space whose preimage does not close crosses the seam of a
+        // periodic surface: Green's theorem does not hold along it.
+        if let (Some(a), Some(b)) = (first, last) {
+            let far = (a.0 - b.0).abs() > 0.25 * (ud.end() - ud.start())
+                || (a.1 - b.1).abs() > 0.25 * (vd.end() - vd.start());
+            if far && !short_path(s, b, a) {
+                return None;
+            }
+        }
+        out.push(nodes_out);
+    }
+    Some(out)
+}
+
+/// Whether the straight parameter segment from `a` to `b` is short on the surface: at most
+/// twice the chord `|S(a) − S(b)|` long. A jump of the preimage along a degenerate
+/// boundary (from one meridian to the next at a sphere's pole) is; a jump across a closed
+/// surface's seam, between two points side by side in space, runs the whole period.
+fn short_path(s: &NurbsSurface, a: (f64, f64), b: (f64, f64)) -> bool {
+    const N: usize = 16;
+    let at = |k: usize| {
+        let t = k as f64 / N as f64;
+        s.eval(a.0 + (b.0 - a.0) * t, a.1 + (b.1 - a.1) * t)
+    };
+    let length: f64 = (0..N).map(|k| (at(k + 1) - at(k)).norm()).sum();
+    length <= 2.0 * (at(N) - at(0)).norm()
+}
+
+fn trimmed_moments(face: &Face, s: &NurbsSurface, bounds: &[&BoundCurve], sign: f64, size: f64) -> Result<Moments> {
+    let refuse = || Error::TrimmedFace { face: face.entity, kind: face.type_name.clone() };
+    let (ud, _) = s.domain();
+    let u0 = *ud.start();
     let uk = s.u_knots().distinct().0;
     let (nu, su) = rule(s.u_degree(), s.is_rational());
     let nau = area_nodes(s.u_degree());
@@ -575,62 +675,18 @@ fn trimmed_moments(face: &Face, bounds: &[&BoundCurve], sign: f64, size: f64) ->
         }
         p
     };
-    let tol = 1e-6 * size;
-    let lps = loops(face, bounds, tol)?;
-    let mut ints: Vec<([f64; 17], f64)> = Vec::with_capacity(lps.len());
-    for lp in &lps {
+    let lps = loops(face, bounds, 1e-6 * size)?;
+    let walks = preimages(s, &lps, size).ok_or_else(refuse)?;
+    let mut ints: Vec<([f64; 17], f64)> = Vec::with_capacity(walks.len());
+    for walk in &walks {
         let mut acc = [0.0; 17];
         let mut area = 0.0;
-        let mut last: Option<(f64, f64)> = None;
-        let mut first: Option<(f64, f64)> = None;
-        for piece in lp {
-            let c = &piece.curve.curve;
-            let knots = c.knots().distinct().0;
-            let (a, b) = (piece.curve.range.0.min(piece.curve.range.1), piece.curve.range.0.max(piece.curve.range.1));
-            let dir = if piece.curve.range.1 >= piece.curve.range.0 { 1.0 } else { -1.0 };
-            let sense = if piece.forward { dir } else { -dir };
-            let mut nodes = span_rule(&knots, a, b, 12, 8);
-            if sense < 0.0 {
-                nodes.reverse();
+        for &(u, v, dv) in walk {
+            let p = inner(u, v);
+            for k in 0..17 {
+                acc[k] += p[k] * dv;
             }
-            for (tau, w) in nodes {
-                let d = c.derivs(tau, 1);
-                let pr = s.project_near(&Point3::from(d[0]), last, 1e-12 * size, 1e-6 * size);
-                if pr.distance_sq.sqrt() > tol {
-                    return Err(refuse());
-                }
-                if let Some((lu, _)) = last {
-                    if (pr.u - lu).abs() > 0.5 * (u1 - u0) {
-                        // The loop crosses a periodic surface's seam.
-                        return Err(refuse());
-                    }
-                }
-                last = Some((pr.u, pr.v));
-                first = first.or(last);
-                let sd = s.eval_d1(pr.u, pr.v);
-                // C' = S_u u' + S_v v', least squares.
-                let (a11, a12, a22) = (sd.du.dot(&sd.du), sd.du.dot(&sd.dv), sd.dv.dot(&sd.dv));
-                let (b1, b2) = (sd.du.dot(&d[1]), sd.dv.dot(&d[1]));
-                let det = a11 * a22 - a12 * a12;
-                if det.abs() <= f64::MIN_POSITIVE {
-                    return Err(refuse());
-                }
-                let dv = (a11 * b2 - a12 * b1) / det * w * sense;
-                let p = inner(pr.u, pr.v);
-                for k in 0..17 {
-                    acc[k] += p[k] * dv;
-                }
-                area += (pr.u - u0) * dv;
-            }
-        }
-        // A loop closed in space whose preimage does not close crosses the seam of a
-        // periodic surface: Green's theorem does not hold along it.
-        if let (Some(a), Some(b)) = (first, last) {
-            let (ud, vd) = s.domain();
-            if (a.0 - b.0).abs() > 0.25 * (ud.end() - ud.start()) || (a.1 - b.1).abs() > 0.25 * (vd.end() - vd.start())
-            {
-                return Err(refuse());
-            }
+            area += (u - u0) * dv;
         }
         ints.push((acc, area));
     }
@@ -705,16 +761,28 @@ fn iso_box(face: &Face, bounds: &[&BoundCurve], size: f64) -> Option<[f64; 4]> {
         }
         let span =
             |d: usize| uv.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), q| (lo.min(q[d]), hi.max(q[d])));
-        let (su, sv) = (span(0), span(1));
-        if su.1 - su.0 <= tol[0] {
+        let (mut su, mut sv) = (span(0), span(1));
+        let along = if su.1 - su.0 <= tol[0] {
             lines[0].push(0.5 * (su.0 + su.1));
-            extent[1] = (extent[1].0.min(sv.0), extent[1].1.max(sv.1));
+            1
         } else if sv.1 - sv.0 <= tol[1] {
             lines[1].push(0.5 * (sv.0 + sv.1));
-            extent[0] = (extent[0].0.min(su.0), extent[0].1.max(su.1));
+            0
         } else {
             return None;
+        };
+        // Along a direction that does not close, the line's ends count too: one may be a
+        // pole (a hemisphere's seam edge runs up to it), which the samples stop short of.
+        if !closed[along] {
+            for t in [b.range.0, b.range.1] {
+                let pr = s.project(&b.curve.eval(t), 1e-10 * size);
+                let x = if along == 0 { pr.u } else { pr.v };
+                let sp = if along == 0 { &mut su } else { &mut sv };
+                *sp = (sp.0.min(x), sp.1.max(x));
+            }
         }
+        let sp = if along == 0 { su } else { sv };
+        extent[along] = (extent[along].0.min(sp.0), extent[along].1.max(sp.1));
     }
     let mut out = [0.0; 4];
     for d in 0..2 {
@@ -725,7 +793,9 @@ fn iso_box(face: &Face, bounds: &[&BoundCurve], size: f64) -> Option<[f64; 4]> {
             // Only the seam (or no line at all): the face goes once around.
             (dom[2 * d], dom[2 * d + 1])
         } else {
-            return None;
+            // One line (or none) and a pole: a hemisphere from its equator, a cone from
+            // its base circle to its apex.
+            to_poles(s, d, &dom, (lo, hi), extent[d], tol[d], size)?
         };
         // The other direction's lines must run inside the box.
         if extent[d].0 < a - tol[d] || extent[d].1 > b + tol[d] {
@@ -735,6 +805,41 @@ fn iso_box(face: &Face, bounds: &[&BoundCurve], size: f64) -> Option<[f64; 4]> {
         out[2 * d + 1] = b;
     }
     Some(out)
+}
+
+/// The range in direction `d` of a face with at most one iso-line of that direction
+/// (`lines`, empty when `lo > hi`), whose other lines run over `extent`: the range from
+/// the line to the end of the extent, when the surface collapses to a point there (a
+/// pole, an apex: a boundary with no curve in the file; an apex may lie inside the
+/// domain of a cone made over more than the face).
+fn to_poles(
+    s: &NurbsSurface,
+    d: usize,
+    dom: &[f64; 4],
+    (lo, hi): (f64, f64),
+    extent: (f64, f64),
+    tol: f64,
+    size: f64,
+) -> Option<(f64, f64)> {
+    let pole = |x: f64| {
+        let (o0, o1) = if d == 0 { (dom[2], dom[3]) } else { (dom[0], dom[1]) };
+        let at = |k: usize| {
+            let t = o0 + (o1 - o0) * k as f64 / 6.0;
+            if d == 0 {
+                s.eval(x, t)
+            } else {
+                s.eval(t, x)
+            }
+        };
+        (1..=6).all(|k| (at(k) - at(0)).norm() <= 1e-9 * size)
+    };
+    let (ea, eb) = extent;
+    if ea.is_nan() || eb.is_nan() || ea > eb {
+        return None;
+    }
+    let (a, b) = if lo > hi { (ea, eb) } else { (lo.min(ea), hi.max(eb)) };
+    let bounded = |x: f64| (lo <= hi && (x - lo).abs() <= tol) || pole(x);
+    (b - a > tol && bounded(a) && bounded(b)).then_some((a, b))
 }
 
 /// Whether every bounding curve of a face lies on its surface (sampled).
@@ -757,10 +862,121 @@ pub fn face_method(face: &Face, bounds: &[&BoundCurve], size: f64) -> Result<Fac
     } else if let Some(b) = iso_box(face, bounds, size) {
         Ok(FaceMethod::Rectangle(b))
     } else if curves_on_surface(face, bounds, size) {
-        Ok(FaceMethod::Trimmed)
+        let walks = loops(face, bounds, 1e-6 * size).map(|lps| preimages(&face.surface, &lps, size).is_some());
+        match walks {
+            Ok(true) => Ok(FaceMethod::Trimmed),
+            Ok(false) => reseamed_method(face, bounds, size)
+                .ok_or_else(|| Error::TrimmedFace { face: face.entity, kind: face.type_name.clone() }),
+            Err(e) => Err(e),
+        }
     } else {
         Err(Error::TrimmedFace { face: face.entity, kind: face.type_name.clone() })
     }
+}
+
+/// Samples per bounding curve for placing a new seam.
+const SEAM_SAMPLES: usize = 32;
+
+/// A face on a closed surface whose loops cross its seam, or whose own seam edges lie
+/// elsewhere than the surface's: the seam positions (u, v) that put the face inside one
+/// period, and the method on the surface reseamed there ([`FaceMethod::Reseamed`]).
+///
+/// In each direction the surface closes in, the candidates are the face's own iso-lines
+/// of that direction (a seam edge, used twice, bounds a face that goes all the way
+/// round: the new seam must be that edge) and the middle of the largest gap that the
+/// preimages of its bounding curves leave on the circle of that parameter (a sphere
+/// octant covering a quarter turn across `u = 0`). Samples at degenerate points (a pole,
+/// where one partial vanishes and the parameter is arbitrary) are left out. The first
+/// candidate on which the face is natural, an iso-box or a closing trimmed walk wins.
+fn reseamed_method(face: &Face, bounds: &[&BoundCurve], size: f64) -> Option<FaceMethod> {
+    let s = &face.surface;
+    let closed = [closes(s, 0, 1e-9 * size), closes(s, 1, 1e-9 * size)];
+    if !closed[0] && !closed[1] {
+        return None;
+    }
+    let (ud, vd) = s.domain();
+    let dom = [(*ud.start(), *ud.end()), (*vd.start(), *vd.end())];
+    // Per bounding curve, the (u, v) of its samples off degenerate points.
+    let uvs: Vec<Vec<[f64; 2]>> = bounds
+        .iter()
+        .map(|b| {
+            (0..=SEAM_SAMPLES)
+                .filter_map(|k| {
+                    let t = b.range.0 + (b.range.1 - b.range.0) * k as f64 / SEAM_SAMPLES as f64;
+                    let pr = s.project(&b.curve.eval(t), 1e-10 * size);
+                    let d = s.eval_d1(pr.u, pr.v);
+                    let (nu, nv) = (d.du.norm(), d.dv.norm());
+                    (nu > 1e-6 * nv && nv > 1e-6 * nu).then_some([pr.u, pr.v])
+                })
+                .collect()
+        })
+        .collect();
+    let mut candidates: [Vec<Option<f64>>; 2] = [vec![None], vec![None]];
+    for d in 0..2 {
+        if !closed[d] {
+            continue;
+        }
+        let (lo, hi) = dom[d];
+        let period = hi - lo;
+        let wrap = |x: f64| lo + (x - lo).rem_euclid(period);
+        for uv in uvs.iter().filter(|uv| uv.len() >= 2) {
+            let x: Vec<f64> = uv.iter().map(|q| wrap(q[d])).collect();
+            let spread = x.iter().map(|&a| {
+                let e = (a - x[0]).rem_euclid(period);
+                e.min(period - e)
+            });
+            if spread.fold(0.0f64, f64::max) <= 1e-7 * period {
+                candidates[d].push(Some(x[0]));
+            }
+        }
+        let mut all: Vec<f64> = uvs.iter().flatten().map(|q| wrap(q[d])).collect();
+        all.sort_by(f64::total_cmp);
+        if let (Some(&first), Some(&last)) = (all.first(), all.last()) {
+            let (mut gap, mut mid) = (first + period - last, wrap(last + 0.5 * (first + period - last)));
+            for w in all.windows(2) {
+                if w[1] - w[0] > gap {
+                    gap = w[1] - w[0];
+                    mid = 0.5 * (w[0] + w[1]);
+                }
+            }
+            candidates[d].push(Some(mid));
+        }
+    }
+    for &cu in &candidates[0] {
+        for &cv in &candidates[1] {
+            if cu.is_none() && cv.is_none() {
+                continue;
+            }
+            let Some(surface) = reseam(s, [cu, cv], size) else { continue };
+            let moved = Face { surface, ..face.clone() };
+            let method = if is_natural(&moved, bounds, size) {
+                OnReseamed::Natural
+            } else if let Some(b) = iso_box(&moved, bounds, size) {
+                OnReseamed::Rectangle(b)
+            } else if loops(&moved, bounds, 1e-6 * size)
+                .is_ok_and(|lps| preimages(&moved.surface, &lps, size).is_some())
+            {
+                OnReseamed::Trimmed
+            } else {
+                continue;
+            };
+            return Some(FaceMethod::Reseamed { seam: [cu, cv], method });
+        }
+    }
+    None
+}
+
+/// `s` with its seams moved to `seam` (u, v; `None`: kept), or `None` when it does not
+/// close where asked.
+fn reseam(s: &NurbsSurface, seam: [Option<f64>; 2], size: f64) -> Option<NurbsSurface> {
+    let mut out = s.clone();
+    if let Some(c) = seam[0] {
+        out = out.reseamed_u(c, 1e-9 * size).ok()?;
+    }
+    if let Some(c) = seam[1] {
+        out = out.reseamed_v(c, 1e-9 * size).ok()?;
+    }
+    Some(out)
 }
 
 /// The bounding curves of each face, by face index.
@@ -824,8 +1040,17 @@ pub fn enclosed_with(faces: &[Face], bounds: &[BoundCurve], size: f64, methods: 
                     .ok_or_else(|| Error::TrimmedFace { face: face.entity, kind: face.type_name.clone() })?;
                 planar_moments(face, fb, o, n, sign, 1e-6 * size)?
             }
-            FaceMethod::Trimmed => trimmed_moments(face, fb, sign, size)?,
+            FaceMethod::Trimmed => trimmed_moments(face, &face.surface, fb, sign, size)?,
             FaceMethod::Rectangle(b) => box_moments(&face.surface, *b, sign),
+            FaceMethod::Reseamed { seam, method } => {
+                let refuse = || Error::TrimmedFace { face: face.entity, kind: face.type_name.clone() };
+                let r = reseam(&face.surface, *seam, size).ok_or_else(refuse)?;
+                match method {
+                    OnReseamed::Natural => natural_moments(&r, sign),
+                    OnReseamed::Rectangle(b) => box_moments(&r, *b, sign),
+                    OnReseamed::Trimmed => trimmed_moments(face, &r, fb, sign, size)?,
+                }
+            }
         };
         shares.push(share);
     }

@@ -143,3 +143,58 @@ fn curved_face_trimmed_inside_its_surface_matches_occt() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Solids as OCCT's own writers make them (`tests/occt/writer_solids.py make DIR --more`:
+/// a turned fillet box, a torus, a capsule, a cone, a nose of revolution with two poles,
+/// a 270° ring sector; each as STEP, IGES B-rep and IGES faces). Before the seam moves,
+/// the pole-bounded iso boxes and the STEP faces bounded by vertex loops alone, every
+/// IGES B-rep face on a sphere, cone or torus that reached its surface's seam was refused,
+/// and the STEP nose could not be read.
+#[test]
+#[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
+fn solids_from_occt_writers_match_occt() {
+    let dir = std::env::temp_dir().join(format!("cadmorph-hull-writers-{}", std::process::id()));
+    let out = Command::new(harness::python())
+        .arg(harness::root().join("tests/occt/writer_solids.py"))
+        .args(["make", dir.to_str().unwrap(), "--more"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let mut reseamed = Vec::new();
+    for name in ["fillet_box", "torus", "capsule", "cone", "nose", "ring_sector"] {
+        for form in [".stp", "_brep.igs", "_faces.igs"] {
+            // OCCT sews no solid from the one face of the IGES-faces torus and nose
+            // (its volume reads 0); the B-spline extrusion is left out as a volume
+            // oracle, see the closing note of issue 22 (OCCT's GProp is 4.6 % off there).
+            if form == "_faces.igs" && (name == "torus" || name == "nose") {
+                continue;
+            }
+            let path = dir.join(format!("{name}{form}"));
+            let e = if form == "_faces.igs" {
+                // OCCT sews these faces at 1e-6 and its centre of mass moves by up to
+                // 2e-6 of its own STEP solid's (capsule); cadmorph's stays within 2e-9
+                // of it. Volume and area against OCCT on the same file, the centroid
+                // against OCCT's STEP solid.
+                let ours = open(&path);
+                let (v, _, a) = occt_volume(&path);
+                let (_, c, _) = occt_volume(&dir.join(format!("{name}.stp")));
+                assert!((ours.total.volume - v).abs() <= 1e-8 * v, "{name}{form}: {} vs {v}", ours.total.volume);
+                assert!((ours.total.area - a).abs() <= 1e-8 * a, "{name}{form}: area {} vs {a}", ours.total.area);
+                let centroid = ours.total.centroid();
+                for k in 0..3 {
+                    assert!((centroid[k] - c[k]).abs() <= 1e-8 * v.cbrt(), "{name}{form}: {centroid:?} vs {c:?}");
+                }
+                ours
+            } else {
+                compare(&path, 1e-8)
+            };
+            if e.methods.iter().any(|m| matches!(m, FaceMethod::Reseamed { .. })) {
+                reseamed.push(format!("{name}{form}"));
+            }
+        }
+    }
+    // The seam moves are what the fillet box's sphere octants and the torus need.
+    assert!(reseamed.contains(&"fillet_box_brep.igs".to_owned()), "{reseamed:?}");
+    assert!(reseamed.contains(&"torus_brep.igs".to_owned()), "{reseamed:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

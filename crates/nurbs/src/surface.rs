@@ -775,6 +775,70 @@ impl NurbsSurface {
         Ok((self.with_u_rows(p, lk, &lc), self.with_u_rows(p, rk, &rc)))
     }
 
+    /// The same surface, closed in u, with its seam moved to `u = c`: the domain becomes
+    /// `[c, c + L]` (`L` the u period, `u₁ − u₀`) and `r.eval(u, v) == s.eval(u', v)`
+    /// for `u' ≡ u (mod L)` in the old domain. A face whose trimming loops cross the old
+    /// seam lies inside the new domain when `c` is outside it.
+    ///
+    /// Made by splitting at `c` ([`split_u`](Self::split_u), Piegl & Tiller A5.3 to full
+    /// multiplicity) and joining the piece `[c, u₁]` to the piece `[u₀, c]` shifted by
+    /// `L`; the old seam becomes an interior knot of multiplicity `p` (C0 in the
+    /// parameter, as the join of two clamped pieces is). The homogeneous seam rows must
+    /// agree up to one common factor (a rational piece scaled by a constant is the same
+    /// surface), their points within `tol`. `c` within `1e-12 L` of the seam returns the
+    /// surface as it is.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Periodic`] when the surface does not close in u (its first and last
+    /// iso-lines differ by more than `tol`, or their weights by more than a common
+    /// factor); [`Error::NotFinite`] for a non-finite `c`.
+    pub fn reseamed_u(&self, c: f64, tol: f64) -> Result<Self> {
+        if !c.is_finite() {
+            return Err(Error::NotFinite { what: "seam parameter", index: 0, value: c });
+        }
+        let d = self.u_knots.domain(self.u_degree);
+        let (u0, u1) = (*d.start(), *d.end());
+        let period = u1 - u0;
+        let c = u0 + (c - u0).rem_euclid(period);
+        if c - u0 <= 1e-12 * period || u1 - c <= 1e-12 * period {
+            return Ok(self.clone());
+        }
+        let (a, b) = self.split_u(c)?;
+        let (ra, rb) = (a.u_rows(), b.u_rows());
+        // The common factor of the seam's homogeneous rows: b ends where a starts.
+        let not_closed =
+            || Error::Periodic { reason: "the surface does not close in u (first and last iso-lines differ)" };
+        let ratio = ra[0][0][3] / rb[0][rb[0].len() - 1][3];
+        for (ca, cb) in ra.iter().zip(&rb) {
+            let (ha, hb) = (ca[0], cb[cb.len() - 1]);
+            let (pa, pb) = (ha.xyz() / ha[3], hb.xyz() / hb[3]);
+            let same = (pa - pb).norm() <= tol && (ha[3] / hb[3] - ratio).abs() <= 1e-12 * ratio.abs();
+            if !same {
+                return Err(not_closed());
+            }
+        }
+        let (ka, kb) = (a.u_knots.as_slice(), b.u_knots.as_slice());
+        let p = self.u_degree;
+        let mut knots: Vec<f64> = kb[..kb.len() - 1].to_vec();
+        knots.extend(ka[p + 1..].iter().map(|k| k + period));
+        let rows: Vec<Vec<Hom>> = rb
+            .iter()
+            .zip(&ra)
+            .map(|(cb, ca)| cb.iter().copied().chain(ca[1..].iter().map(|h| h / ratio)).collect())
+            .collect();
+        Ok(self.with_u_rows(p, knots, &rows))
+    }
+
+    /// [`reseamed_u`](Self::reseamed_u) in v.
+    ///
+    /// # Errors
+    ///
+    /// As [`reseamed_u`](Self::reseamed_u), for v.
+    pub fn reseamed_v(&self, c: f64, tol: f64) -> Result<Self> {
+        Ok(self.transposed().reseamed_u(c, tol)?.transposed())
+    }
+
     /// Splits at `v = t`; see [`split_u`](Self::split_u).
     ///
     /// # Errors

@@ -59,6 +59,7 @@ impl Ctx<'_> {
         };
         // Per edge: the (u, v) of its samples, in order; u is None where undefined (poles).
         let mut edges: Vec<Vec<(Option<f64>, f64)>> = Vec::new();
+        let mut any_edge = false;
         for &(_, lp, _) in &face.bounds {
             let lp_edges = self.loop_edges(lp)?;
             if lp_edges.is_empty() {
@@ -74,6 +75,7 @@ impl Ctx<'_> {
                 continue;
             }
             for (e, _) in lp_edges {
+                any_edge = true;
                 let (c, t0, t1, _, _) = self.edge_geometry(e)?;
                 let mut pts: Vec<(f64, (Option<f64>, f64))> = (0..=EDGE_SAMPLES)
                     .map(|i| {
@@ -120,6 +122,20 @@ impl Ctx<'_> {
             at: self.doc.position_of_id(face.id),
             source: cadmorph_nurbs::Error::EmptyDomain { start: 0.0, end: 0.0 },
         };
+        if !any_edge {
+            // Bounded by vertex loops alone (OCCT writes a whole surface of revolution of
+            // a profile from the axis to the axis so: its seam and pole edges dropped, one
+            // VERTEX_LOOP at a pole): the face is the whole closed surface.
+            return match g {
+                SurfaceGeom::Sphere(_) => Ok(((0.0, TAU), (-std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_2))),
+                SurfaceGeom::Torus(_) => Ok(((0.0, TAU), (0.0, TAU))),
+                SurfaceGeom::Revolution(s) => {
+                    let d = s.curve().domain();
+                    Ok(((0.0, TAU), (*d.start(), *d.end())))
+                }
+                _ => Err(bad()),
+            };
+        }
         let us: Vec<Vec<f64>> = edges.iter().map(|e| e.iter().filter_map(|s| s.0).collect()).collect();
         let vs: Vec<Vec<f64>> = edges.iter().map(|e| e.iter().map(|s| s.1).collect()).collect();
         let u = range(&us, du).ok_or_else(bad)?;
@@ -197,7 +213,8 @@ fn invert_with(g: &SurfaceGeom, p: &Point3<f64>, axis: f64) -> (Option<f64>, f64
             };
             let (r0, r) = (radial(&c0), radial(p));
             let scale = r0.norm().max(1.0);
-            let u = (r.norm() > axis.max(1e-12) * scale && r0.norm() > 0.0).then(|| d.cross(&r0).dot(&r).atan2(r0.dot(&r)));
+            let u =
+                (r.norm() > axis.max(1e-12) * scale && r0.norm() > 0.0).then(|| d.cross(&r0).dot(&r).atan2(r0.dot(&r)));
             // Rotate p back by −u about the axis, then project onto the meridian.
             let back = match u {
                 Some(a) => {
