@@ -7,8 +7,8 @@ use cadmorph_brep::EntityRef;
 pub enum Error {
     /// A face trimmed inside its curved surface whose loops cannot be followed in the
     /// surface's parameters: its curves do not lie on the surface, or they cross a
-    /// periodic surface's seam.
-    #[error("face {face} is trimmed inside its {kind} surface along curves that do not lie on it or that cross its seam: cadmorph cannot integrate its share of the enclosed volume")]
+    /// closed surface's seam wherever it is put (see `FaceMethod::Reseamed`).
+    #[error("face {face} is trimmed inside its {kind} surface along curves that do not lie on it or that cross its seam wherever it is put: cadmorph cannot integrate its share of the enclosed volume")]
     TrimmedFace {
         /// The face.
         face: EntityRef,
