@@ -57,10 +57,20 @@ pub(crate) fn shared_edges(faces: &[Face], bounds: &[BoundCurve]) -> (Vec<Shared
     // with itself, which the topology pass below does not pair.
     let bounded_faces: Vec<usize> = (0..faces.len()).filter(|&k| bounded[k]).collect();
     let closed: Vec<&NurbsSurface> = bounded_faces.iter().map(|&k| &faces[k].surface).collect();
+    // Edge pieces the file gives to more than one face, counted once here rather than
+    // by a scan of every bound per closing seam.
+    let mut faces_of: HashMap<(EntityRef, u32, usize), (usize, bool)> = HashMap::new();
+    for b in bounds {
+        if let Some(e) = b.edge {
+            let f = faces_of.entry((e, b.edge_index, b.piece)).or_insert((b.face, false));
+            f.1 |= f.0 != b.face;
+        }
+    }
+    let shared = |b: &BoundCurve| b.edge.is_some_and(|e| faces_of[&(e, b.edge_index, b.piece)].1);
     for mut e in closing_seams(&closed, tol, 64, 0.9) {
         e.a.patch = bounded_faces[e.a.patch];
         e.b.patch = bounded_faces[e.b.patch];
-        if !iso.contains(&e) && crosses_its_seam(faces, e.a.patch, bounds, e.a.side, tol) {
+        if !iso.contains(&e) && crosses_its_seam(faces, e.a.patch, bounds, &shared, e.a.side, tol) {
             iso.push(e);
         }
     }
@@ -85,18 +95,19 @@ pub(crate) fn shared_edges(faces: &[Face], bounds: &[BoundCurve]) -> (Vec<Shared
 /// turn, only touches its seam, and listing it would add an edge the file's topology does
 /// not have). A seam edge (a whole torus's, a hemisphere's) is used by the face alone; a
 /// face with no curve on the line runs across it (a STEP cylinder band between two
-/// circles); trimming curves that name no edge (IGES 144) keep the seam.
-fn crosses_its_seam(faces: &[Face], k: usize, bounds: &[BoundCurve], side: cadmorph_nurbs::Side, tol: f64) -> bool {
+/// circles); trimming curves that name no edge (IGES 144) keep the seam. `shared` tells
+/// the edge pieces the file gives to more than one face.
+fn crosses_its_seam(
+    faces: &[Face],
+    k: usize,
+    bounds: &[BoundCurve],
+    shared: &dyn Fn(&BoundCurve) -> bool,
+    side: cadmorph_nurbs::Side,
+    tol: f64,
+) -> bool {
     use cadmorph_nurbs::CurveProject;
     let line = faces[k].surface.boundary(side);
     let on_tol = 1e-3 * tol;
-    let shared = |b: &BoundCurve| {
-        b.edge.is_some_and(|e| {
-            bounds
-                .iter()
-                .any(|o| o.face != k && o.edge == Some(e) && o.edge_index == b.edge_index && o.piece == b.piece)
-        })
-    };
     !bounds.iter().filter(|b| b.face == k && shared(b)).any(|b| {
         (1..=5).all(|i| {
             let t = b.range.0 + (b.range.1 - b.range.0) * i as f64 / 6.0;
