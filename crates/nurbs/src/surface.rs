@@ -910,11 +910,10 @@ impl NurbsSurface {
     /// scalar path, which computes the same values up to the rounding of the fused
     /// multiply-adds.
     pub fn eval_d1(&self, u: f64, v: f64) -> SurfacePointD1 {
-        let (p, q) = (self.u_degree, self.v_degree);
         #[cfg(target_arch = "x86_64")]
         if !self.infinite {
             if let Some(simd) = pulp::x86::V3::try_new() {
-                let s = self;
+                let (s, p, q) = (self, self.u_degree, self.v_degree);
                 return match p.max(q) {
                     _ if (p, q) == (3, 3) => {
                         pulp::Simd::vectorize(simd, v3::D1::<4, 3> { simd, surface: s, u, v, p, q })
@@ -1107,6 +1106,9 @@ fn basis_d1<const N: usize>(knots: &[f64], inv: &[f64], span: usize, u: f64, p: 
     (n, d)
 }
 
+/// The non-zero basis functions of one direction and their first derivatives.
+type BasisD1<const N: usize> = ([f64; N], [f64; N]);
+
 /// The basis functions and first derivatives of both directions at the spans `(su, sv)`:
 /// [`basis_d1_cubic`] when both degrees are 3 (a constant after inlining for the bicubic
 /// call sites), [`basis_d1`] otherwise.
@@ -1116,7 +1118,7 @@ fn basis_d1_pair<const N: usize>(
     (su, sv): (usize, usize),
     (u, v): (f64, f64),
     (p, q): (usize, usize),
-) -> (([f64; N], [f64; N]), ([f64; N], [f64; N])) {
+) -> (BasisD1<N>, BasisD1<N>) {
     let (uk, vk) = (s.u_knots.as_slice(), s.v_knots.as_slice());
     if (p, q) == (3, 3) && N >= 4 {
         let (nu, dnu) = basis_d1_cubic(uk, &s.u_inv, su, u);

@@ -41,10 +41,10 @@ impl<const N: usize, const D: usize> pulp::WithSimd for D1<'_, N, D> {
         match &s.weights {
             None => {
                 for k in 0..=p {
-                    let base = 3 * ((i0 + k) * s.n_v + j0);
+                    let row = row(flat, 3 * ((i0 + k) * s.n_v + j0), q);
                     let (mut t0, mut t1) = (zero, zero);
                     for l in 0..=q {
-                        let c = load(simd, flat, base + 3 * l);
+                        let c = load(simd, row, 3 * l);
                         t0 = simd.mul_add_f64x4(simd.splat_f64x4(nv[l]), c, t0);
                         t1 = simd.mul_add_f64x4(simd.splat_f64x4(dnv[l]), c, t1);
                     }
@@ -65,15 +65,15 @@ impl<const N: usize, const D: usize> pulp::WithSimd for D1<'_, N, D> {
                 let one = simd.splat_f64x4(1.0);
                 for k in 0..=p {
                     let idx = (i0 + k) * s.n_v + j0;
+                    let row = row(flat, 3 * idx, q);
+                    let w = &w[idx..idx + q + 1];
                     let (mut t0, mut t1) = (zero, zero);
                     for l in 0..=q {
                         // (x, y, z, 1) · w
-                        let c: f64x4 =
-                            pulp::cast(simd.avx._mm256_blend_pd::<0b1000>(
-                                pulp::cast(load(simd, flat, 3 * (idx + l))),
-                                pulp::cast(one),
-                            ));
-                        let h = simd.mul_f64x4(c, simd.splat_f64x4(w[idx + l]));
+                        let c: f64x4 = pulp::cast(
+                            simd.avx._mm256_blend_pd::<0b1000>(pulp::cast(load(simd, row, 3 * l)), pulp::cast(one)),
+                        );
+                        let h = simd.mul_f64x4(c, simd.splat_f64x4(w[l]));
                         t0 = simd.mul_add_f64x4(simd.splat_f64x4(nv[l]), h, t0);
                         t1 = simd.mul_add_f64x4(simd.splat_f64x4(dnv[l]), h, t1);
                     }
@@ -95,14 +95,22 @@ impl<const N: usize, const D: usize> pulp::WithSimd for D1<'_, N, D> {
     }
 }
 
-/// The control point whose `x` is `flat[i]` as `(x, y, z, ·)`: four contiguous values
+/// The `q + 1` control points of a row of the net from `flat[start]` on, with one value
+/// more when there is one (so that every point can be loaded as four values).
+#[inline(always)]
+fn row(flat: &[f64], start: usize, q: usize) -> &[f64] {
+    let end = start + 3 * (q + 1);
+    flat.get(start..end + 1).unwrap_or(&flat[start..end])
+}
+
+/// The control point whose `x` is `row[i]` as `(x, y, z, ·)`: four contiguous values
 /// (the last lane is the next point's `x`, or zero past the end of the net).
 #[inline(always)]
-fn load(simd: V3, flat: &[f64], i: usize) -> f64x4 {
+fn load(simd: V3, row: &[f64], i: usize) -> f64x4 {
     let _ = simd;
-    match flat.get(i..i + 4) {
+    match row.get(i..i + 4) {
         Some(four) => pulp::cast::<[f64; 4], f64x4>(four.try_into().expect("four values")),
-        None => f64x4(flat[i], flat[i + 1], flat[i + 2], 0.0),
+        None => f64x4(row[i], row[i + 1], row[i + 2], 0.0),
     }
 }
 
@@ -122,7 +130,7 @@ mod tests {
         while inner.len() < n - p - 1 {
             let x = rng.gen_range(a..b);
             let m = rng.gen_range(1..=p).min(n - p - 1 - inner.len());
-            inner.extend(std::iter::repeat(x).take(m));
+            inner.extend(std::iter::repeat_n(x, m));
         }
         inner.sort_by(f64::total_cmp);
         let mut k = vec![a; p + 1];
