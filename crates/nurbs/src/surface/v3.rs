@@ -44,7 +44,7 @@ impl<const N: usize, const D: usize> pulp::WithSimd for D1<'_, N, D> {
                     let row = row(flat, 3 * ((i0 + k) * s.n_v + j0), q);
                     let (mut t0, mut t1) = (zero, zero);
                     for l in 0..=q {
-                        let c = load(simd, row, 3 * l);
+                        let c = load(row, 3 * l);
                         t0 = simd.mul_add_f64x4(simd.splat_f64x4(nv[l]), c, t0);
                         t1 = simd.mul_add_f64x4(simd.splat_f64x4(dnv[l]), c, t1);
                     }
@@ -71,7 +71,7 @@ impl<const N: usize, const D: usize> pulp::WithSimd for D1<'_, N, D> {
                     for l in 0..=q {
                         // (x, y, z, 1) · w
                         let c: f64x4 = pulp::cast(
-                            simd.avx._mm256_blend_pd::<0b1000>(pulp::cast(load(simd, row, 3 * l)), pulp::cast(one)),
+                            simd.avx._mm256_blend_pd::<0b1000>(pulp::cast(load(row, 3 * l)), pulp::cast(one)),
                         );
                         let h = simd.mul_f64x4(c, simd.splat_f64x4(w[l]));
                         t0 = simd.mul_add_f64x4(simd.splat_f64x4(nv[l]), h, t0);
@@ -106,8 +106,7 @@ fn row(flat: &[f64], start: usize, q: usize) -> &[f64] {
 /// The control point whose `x` is `row[i]` as `(x, y, z, ·)`: four contiguous values
 /// (the last lane is the next point's `x`, or zero past the end of the net).
 #[inline(always)]
-fn load(simd: V3, row: &[f64], i: usize) -> f64x4 {
-    let _ = simd;
+fn load(row: &[f64], i: usize) -> f64x4 {
     match row.get(i..i + 4) {
         Some(four) => pulp::cast::<[f64; 4], f64x4>(four.try_into().expect("four values")),
         None => f64x4(row[i], row[i + 1], row[i + 2], 0.0),
