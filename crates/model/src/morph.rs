@@ -88,6 +88,15 @@ pub struct MorphOutcome {
     pub check: Option<SeamCheck>,
 }
 
+/// `s` raised to degree 3 in each direction of lower degree (A5.9; the geometry and the
+/// parameters do not change).
+fn at_least_cubic(s: &mut NurbsSurface, face: EntityRef) -> Result<()> {
+    let (p, q) = (s.u_degree(), s.v_degree());
+    s.elevate_u_degree(3usize.saturating_sub(p))
+        .and_then(|()| s.elevate_v_degree(3usize.saturating_sub(q)))
+        .map_err(|source| Error::Exact { what: format!("face {face} (elevation to cubic)"), source })
+}
+
 fn count(faces: &[cadmorph_brep::Face]) -> usize {
     faces.iter().map(|p| p.surface.control_points().len()).sum()
 }
@@ -208,6 +217,18 @@ impl<D: CadDocument> Model<D> {
         } else {
             Vec::new()
         };
+        // Analytic faces (planes, cylinders, cones...) are written at least cubic when they
+        // move (see `write_faces`), and so, when the seams drive a refinement, are the
+        // B-spline faces the morph moves: the refinement is planned on that form, where
+        // the morph's normals converge as the square of the span (along a direction of
+        // degree 1, a ruled side, only as the span itself: twice the rounds and many times
+        // the control points). Without refinement a B-spline face keeps its degrees, its
+        // control points moved as PyGeM moves them.
+        for (s, face) in patches.iter_mut().zip(&self.faces) {
+            if face.kind.is_analytic() || (opts.refine.is_some() && moved_by(d, face.surface.control_points())) {
+                at_least_cubic(s, face.entity)?;
+            }
+        }
         make_compatible(&mut patches, &to_repair)?;
         if let Some(n) = opts.uniform_knots {
             for s in &mut patches {
@@ -365,15 +386,18 @@ impl<D: CadDocument> Model<D> {
                         r
                     }
                     None => {
-                        let mut target = refined_like(&face.surface, r, &b);
                         // A morphed plane or cylinder is at least cubic in both directions:
                         // moving the control points of a bilinear net keeps it a bilinear
                         // (ruled) patch, while the morph bends it. Elevation (A5.9) keeps
                         // the geometry and the parameters, so seams are measured where
-                        // they were.
-                        // Only unrefined forms: a refined, elevated plane's iso edges are
-                        // not found again by a fresh seam check of the STEP output (the
-                        // failure of the earlier attempt; not understood yet).
+                        // they were. The patch was elevated before the refinement was
+                        // planned on it (`at_least_cubic`), so the file's form is elevated
+                        // first and refined after, as the patch was: knots inserted after
+                        // an elevation are simple (C² in a cubic), where elevating a
+                        // refined form would make each of them a C⁰ triple knot.
+                        let mut target = refined_like(&face.surface, r, &b);
+                        // The form as it is when the refinement could not be carried over
+                        // (its own knots) or did not elevate it.
                         let unrefined = target == b;
                         let (p, q) = if unrefined { (target.u_degree(), target.v_degree()) } else { (3, 3) };
                         target

@@ -9,11 +9,41 @@ pub(crate) fn moved_by(d: &dyn Deformation, pts: &[Point3<f64>]) -> bool {
     pts.iter().any(|p| d.deform_point(p) != *p)
 }
 
-/// The knots `refined` has beyond `base` in each direction, to insert into `target`
-/// (another copy of `base`'s geometry, such as the B-spline an analytic face becomes);
-/// `None` when `target` does not have `base`'s knots, so the insertion would not mean
-/// the same there.
-fn inserted_knots(base: &NurbsSurface, refined: &NurbsSurface, target: &NurbsSurface) -> Option<(Vec<f64>, Vec<f64>)> {
+/// What took `base` to `refined` in one direction: the degree raised by `t` (A5.9,
+/// which raises every distinct knot's multiplicity by `t`) and the knots inserted after
+/// that (A5.4), each with its multiplicity; `None` when `refined` is not such a
+/// refinement of `base` (a knot lost or moved).
+fn elevated_and_inserted(
+    base: &cadmorph_nurbs::KnotVector,
+    p: usize,
+    refined: &cadmorph_nurbs::KnotVector,
+    q: usize,
+) -> Option<(usize, Vec<f64>)> {
+    let t = q.checked_sub(p)?;
+    let (from, from_mult) = base.distinct();
+    let (to, to_mult) = refined.distinct();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + a.abs());
+    let mut out = Vec::new();
+    let mut i = 0;
+    for (&x, &m) in to.iter().zip(&to_mult) {
+        let had = if i < from.len() && close(from[i], x) {
+            i += 1;
+            from_mult[i - 1] + t
+        } else {
+            0
+        };
+        out.extend(std::iter::repeat_n(x, m.checked_sub(had)?));
+    }
+    (i == from.len()).then_some((t, out))
+}
+
+/// `target` (another copy of `base`'s geometry: the same degrees and knots, such as the
+/// B-spline an analytic face becomes) raised to `refined`'s degrees and given the knots
+/// that took `base` to `refined` (elevation first, then insertion, as the refinement
+/// was planned); `target` itself where `target` does not have `base`'s degrees and knots
+/// or `refined` is not a refinement of `base`, so the same steps would not mean the same
+/// there.
+pub(crate) fn refined_like(base: &NurbsSurface, refined: &NurbsSurface, target: &NurbsSurface) -> NurbsSurface {
     let same = |a: &cadmorph_nurbs::KnotVector, b: &cadmorph_nurbs::KnotVector| {
         a.len() == b.len()
             && a.as_slice().iter().zip(b.as_slice()).all(|(x, y)| (x - y).abs() <= 1e-12 * (1.0 + x.abs()))
@@ -23,34 +53,21 @@ fn inserted_knots(base: &NurbsSurface, refined: &NurbsSurface, target: &NurbsSur
         || !same(base.u_knots(), target.u_knots())
         || !same(base.v_knots(), target.v_knots())
     {
-        return None;
+        return target.clone();
     }
-    let extra = |from: &[f64], to: &[f64]| {
-        let mut out = Vec::new();
-        let mut i = 0;
-        for &k in to {
-            if i < from.len() && from[i] == k {
-                i += 1;
-            } else {
-                out.push(k);
-            }
-        }
-        out
+    let (Some((tu, xu)), Some((tv, xv))) = (
+        elevated_and_inserted(base.u_knots(), base.u_degree(), refined.u_knots(), refined.u_degree()),
+        elevated_and_inserted(base.v_knots(), base.v_degree(), refined.v_knots(), refined.v_degree()),
+    ) else {
+        return target.clone();
     };
-    Some((
-        extra(base.u_knots().as_slice(), refined.u_knots().as_slice()),
-        extra(base.v_knots().as_slice(), refined.v_knots().as_slice()),
-    ))
-}
-
-/// `target` (another copy of `base`'s geometry) with the knots that took `base` to
-/// `refined`; `target` itself where the two do not match.
-pub(crate) fn refined_like(base: &NurbsSurface, refined: &NurbsSurface, target: &NurbsSurface) -> NurbsSurface {
     let mut out = target.clone();
-    if let Some((xu, xv)) = inserted_knots(base, refined, target) {
-        if out.refine_u(&xu).is_err() || out.refine_v(&xv).is_err() {
-            return target.clone();
-        }
+    let steps = (if tu > 0 { out.elevate_u_degree(tu) } else { Ok(()) })
+        .and_then(|()| if tv > 0 { out.elevate_v_degree(tv) } else { Ok(()) })
+        .and_then(|()| out.refine_u(&xu))
+        .and_then(|()| out.refine_v(&xv));
+    if steps.is_err() {
+        return target.clone();
     }
     out
 }
@@ -211,6 +228,12 @@ fn iso_trace(c: &NurbsCurve, before: &NurbsSurface, after: &NurbsSurface, uvs: &
         }
         (along[0], along[n - 1])
     };
+    // An end within rounding of a knot of the iso-curve (a knot line of a refined face
+    // through the curve's end) is that knot: a split a few ulps beside it would leave a
+    // span of zero length, which readers refuse.
+    let knots = iso.knots().distinct().0;
+    let snap = |x: f64| knots.iter().copied().find(|k| (k - x).abs() <= eps * span).unwrap_or(x);
+    let (a, b) = (snap(a), snap(b));
     let (lo, hi) = (a.min(b), a.max(b));
     if hi - lo <= eps * span {
         return None;

@@ -233,7 +233,7 @@ fn mixed_solid_refinement_keeps_topology_edges_closed() {
         assert!(r.seams_after.max_gap_closest <= tol, "{name}: {}", r.seams_after.max_gap_closest);
         assert!(r.control_points_after > none.control_points_after, "{name}");
         // 29 edges between two faces and the cylinder's closing seam.
-        assert_eq!(r.seams_after.edges.len(), 30, "{name}");
+        assert_eq!(r.seams_after.edges.len(), 30, "{name}: {}\n{}", r.seams_after.table(), r.seams_before.table());
         assert_eq!(r.seams_after.edges.iter().filter(|e| e.a.patch == e.b.patch).count(), 1, "{name}");
         // The written edge curves lie on the morphed faces: measured afresh from the
         // file, edges found from its curves, the seams are as closed
