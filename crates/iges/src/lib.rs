@@ -67,8 +67,12 @@
 //! against the input left (a `cargo fuzz` target, `fuzz/fuzz_targets/iges_document.rs`,
 //! holds it to that).
 //!
-//! The crate has no feature flags.
+//! The crate has one feature flag, `bench-internals` (off by default), which adds the
+//! `bench` module: the tokenizer alone, for its criterion bench. It is not part of the
+//! stable API.
 
+#[cfg(feature = "bench-internals")]
+pub mod bench;
 mod bounds;
 mod cad;
 pub mod convert;

@@ -439,6 +439,13 @@ pub(crate) fn tokenize_record(rec: &RecordLines, pd: u8, rd: u8) -> Result<Recor
     chunked(rec, pd, rd, chunk).map(|(r, _)| r)
 }
 
+/// [`tokenize_record`] on the calling thread only, as it reads with one thread (no
+/// parallel cut, whatever the thread pool): for timing the tokenizer alone.
+#[cfg(feature = "bench-internals")]
+pub(crate) fn tokenize_record_one_thread(rec: &RecordLines, pd: u8, rd: u8) -> Result<Record, LexError> {
+    chunked(rec, pd, rd, usize::MAX).map(|(r, _)| r)
+}
+
 /// A record as read.
 pub(crate) struct Record {
     pub tokens: Vec<Raw>,
