@@ -64,7 +64,7 @@ pub struct Args {
     #[arg(long, value_parser = crate::limits::positive)]
     tol: Option<f64>,
     /// With --refine-tol: stop refining (and fail) before the faces would hold more than
-    /// this many control points in all. Default: 20 times the input's, at least 10 000.
+    /// this many control points in all. Default: 20 times the input's, at least 50 000.
     #[arg(long, requires = "refine_tol")]
     max_control_points: Option<usize>,
     /// PyGeM-style refinement instead: this many evenly spaced knots per direction.

@@ -200,7 +200,7 @@ impl PyModel {
     ///
     /// `refine_tol` (model units): insert knots first where the morph needs them, until the
     /// seams stay within this gap and `angle_tol` degrees after the morph (at most
-    /// `max_control_points` in all, default `SeamRefineOptions::default_budget`: 20x the input's, at least 10 000); a refinement that does not
+    /// `max_control_points` in all, default `SeamRefineOptions::default_budget`: 20x the input's, at least 50 000); a refinement that does not
     /// converge raises `CadFileError` and leaves the model as it was. `uniform_knots`:
     /// PyGeM-style refinement instead (that many knots per direction on every patch).
     /// `repair`: make knots compatible across seams first and both sides of every shared
