@@ -171,10 +171,10 @@ fn refined_hulls_have_edge_curves_on_their_faces_and_the_repair_reports_its_area
     }
 }
 
-/// The 3×3×3 FFD with seam refinement at the default 0.01°: the faces are made cubic
+/// The 3×3×3 FFD with seam refinement at the default 0.01°: the faces are raised to quadratic
 /// before the refinement is planned, so it converges within the default budget (on the
 /// bilinear planes and ruled sides the normals converged only as the span: at 1e-5 of
-/// the size it needed 112 246 control points, now 18 816, the angle driving the count);
+/// the size it needed 112 246 control points, now 23 626, the angle driving the count);
 /// the written solid is valid with the input's topology and its 28 creases, its edge
 /// curves on their faces within the tolerance.
 #[test]
@@ -192,7 +192,7 @@ fn refined_3x3x3_morph_of_the_solid_converges_within_the_default_budget() {
     let r = out.refinement.as_ref().unwrap();
     println!("{} -> {} control points in {} rounds", r.control_points_before, r.control_points_after, r.rounds);
     assert!(r.converged, "{r:?}");
-    assert!(r.control_points_after < 25_000, "{}", r.control_points_after);
+    assert!(r.control_points_after < 30_000, "{}", r.control_points_after);
     assert_eq!(out.seams_after.sharp_edges, 28);
     assert!(out.seams_after.max_gap_closest <= 1e-5 * size, "{}", out.seams_after.max_gap_closest);
     let path = s.0.join(name);

@@ -33,10 +33,10 @@ impl SeamRefineOptions {
     /// gets unless told otherwise: 20 times the input, and at least 50 000. A small
     /// model refined as PyGeM refines it, 30 knots per direction, already holds several
     /// thousand (PyGeM's `test_pipe.igs`, 48 control points, gets 6 528), and a 14-face
-    /// solid under a 3×3×3 FFD at 1e-5 of its size needs some 19 000 (`mixed_solid.stp`,
-    /// its faces made cubic first). It stops a runaway refinement (one chasing a gap it
-    /// cannot close: 1.2 to 1.8 million control points on real files before the seams
-    /// were measured against the input's) long before memory does.
+    /// solid under a 3×3×3 FFD at 1e-5 of its size needs some 24 000 (`mixed_solid.stp`,
+    /// its faces raised to quadratic first). It stops a runaway refinement (one chasing
+    /// a gap it cannot close: 1.2 to 1.8 million control points on real files before
+    /// the seams were measured against the input's) long before memory does.
     pub fn default_budget(before: usize) -> usize {
         before.saturating_mul(20).max(50_000)
     }
