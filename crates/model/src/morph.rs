@@ -88,13 +88,20 @@ pub struct MorphOutcome {
     pub check: Option<SeamCheck>,
 }
 
-/// `s` raised to degree 2 in each direction of degree 1 (A5.9; the geometry and the
-/// parameters do not change).
-fn at_least_quadratic(s: &mut NurbsSurface, face: EntityRef) -> Result<()> {
+/// `s` raised to at least `degree` in each direction (A5.9; the geometry and the
+/// parameters do not change); a direction already there is left as it is.
+fn raise_to(s: &mut NurbsSurface, degree: usize, face: EntityRef) -> Result<()> {
     let (p, q) = (s.u_degree(), s.v_degree());
-    s.elevate_u_degree(2usize.saturating_sub(p))
-        .and_then(|()| s.elevate_v_degree(2usize.saturating_sub(q)))
-        .map_err(|source| Error::Exact { what: format!("face {face} (elevation to quadratic)"), source })
+    let up = |s: &mut NurbsSurface| -> cadmorph_nurbs::Result<()> {
+        if p < degree {
+            s.elevate_u_degree(degree - p)?;
+        }
+        if q < degree {
+            s.elevate_v_degree(degree - q)?;
+        }
+        Ok(())
+    };
+    up(s).map_err(|source| Error::Exact { what: format!("face {face} (elevation to degree {degree})"), source })
 }
 
 fn count(faces: &[cadmorph_brep::Face]) -> usize {
@@ -231,7 +238,7 @@ impl<D: CadDocument> Model<D> {
         if opts.refine.is_some() {
             for (s, face) in patches.iter_mut().zip(&self.faces) {
                 if face.kind.is_analytic() || moved_by(d, face.surface.control_points()) {
-                    at_least_quadratic(s, face.entity)?;
+                    raise_to(s, 2, face.entity)?;
                 }
             }
         }
@@ -405,15 +412,9 @@ impl<D: CadDocument> Model<D> {
                         let mut target = refined_like(&face.surface, r, &b);
                         // The form as it is when the refinement could not be carried over
                         // (its own knots) or did not elevate it.
-                        let unrefined = target == b;
-                        let (p, q) = if unrefined { (target.u_degree(), target.v_degree()) } else { (3, 3) };
-                        target
-                            .elevate_u_degree(3usize.saturating_sub(p))
-                            .and_then(|()| target.elevate_v_degree(3usize.saturating_sub(q)))
-                            .map_err(|source| Error::Exact {
-                                what: format!("face {} (elevation to cubic)", face.entity),
-                                source,
-                            })?;
+                        if target == b {
+                            raise_to(&mut target, 3, face.entity)?;
+                        }
                         // Curves are traced from this form (its parameters), not from the patch.
                         *unmoved.last_mut().expect("pushed above") = target.clone();
                         d.deform(target.control_points_mut());
