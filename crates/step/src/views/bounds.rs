@@ -6,14 +6,20 @@
 //! along each edge, and the face's angular range is the complement of the largest gap
 //! left by the union of the edges' arcs; an edge that goes all the way round gives a full
 //! turn starting at its first point.
+//!
+//! Where the extremes along an edge are known in closed form (a line on a plane, a
+//! cylinder's or cone's generator, a conic on a plane, a circle about the axis of a surface
+//! of revolution type, a torus's meridian circle: the edges of most analytic B-reps), only
+//! the edge's ends and those extremes are inverted ([`closed_form_params`]); other edges
+//! are sampled and each sample's extreme sharpened by a golden-section search.
 
 use std::f64::consts::TAU;
 
-use cadmorph_nurbs::analytic::AnalyticSurface;
+use cadmorph_nurbs::analytic::{AnalyticCurve, AnalyticSurface};
 use cadmorph_nurbs::math::{Matrix4, Point3, Vector3};
 use cadmorph_nurbs::{Curve, CurveProject};
 
-use super::geometry::SurfaceGeom;
+use super::geometry::{CurveGeom, SurfaceGeom};
 use super::{Ctx, Face};
 use crate::error::{Error, Result};
 
@@ -77,6 +83,10 @@ impl Ctx<'_> {
             for (e, _) in lp_edges {
                 any_edge = true;
                 let (c, t0, t1, _, _) = self.edge_geometry(e)?;
+                if let Some(ts) = closed_form_params(g, &c, t0, t1) {
+                    edges.push(ts.into_iter().map(|t| invert(g, &c.eval(t))).collect());
+                    continue;
+                }
                 let mut pts: Vec<(f64, (Option<f64>, f64))> = (0..=EDGE_SAMPLES)
                     .map(|i| {
                         let t = t0 + (t1 - t0) * i as f64 / EDGE_SAMPLES as f64;
@@ -147,6 +157,105 @@ impl Ctx<'_> {
             return Err(bad());
         }
         Ok((u, v))
+    }
+}
+
+/// Directions within this sine of each other are parallel, and a centre within this
+/// fraction of the radius from an axis is on it, for [`closed_form_params`]. A STEP
+/// writer's 15 significant digits leave about 1e-15; a condition met only to a coarser
+/// `PARALLEL` goes the sampled way, which is always right.
+const PARALLEL: f64 = 1e-12;
+
+/// Parameters of the edge `c` over `[t0, t1]`, in increasing order, among which the face
+/// coordinates (u, v) of `g` reach every extreme along the edge and consecutive angles
+/// differ by less than half a turn (so that [`range`] unwraps them), when that is known in
+/// closed form; `None` otherwise.
+///
+/// - A line on a plane: u and v are affine along it, so its ends.
+/// - A line along a cylinder's axis or an extrusion's direction: u is constant and v
+///   affine; a line on a cone whose ends have the same angle is a generator that does not
+///   pass the apex: u constant, v affine. Its ends.
+/// - A conic `O + a cos t X + b sin t Y` on a plane: each coordinate is
+///   `c₀ + α cos t + β sin t`, extreme where `tan t = β / α` (at `atan2(β, α) + kπ`);
+///   those inside the edge and its ends.
+/// - A circle about the axis of a cylinder, cone, sphere, torus or surface of revolution
+///   (its normal along the axis, its centre on it): v is constant and u moves with t, so
+///   its ends and points at most a quarter turn apart for the unwrapping; a torus's
+///   meridian circle (the tube's radius, centred on the major circle, in a plane through
+///   the axis): u constant, v moving with t, likewise.
+fn closed_form_params(g: &SurfaceGeom, c: &CurveGeom, t0: f64, t1: f64) -> Option<Vec<f64>> {
+    let mut c = c;
+    while let CurveGeom::Trimmed { basis, .. } = c {
+        c = basis;
+    }
+    let parallel = |a: Vector3<f64>, b: Vector3<f64>| a.cross(&b).norm() <= PARALLEL * a.norm() * b.norm();
+    let turning = || {
+        let n = ((t1 - t0) / std::f64::consts::FRAC_PI_2).ceil().max(1.0) as usize;
+        (0..=n).map(|i| if i == n { t1 } else { t0 + (t1 - t0) * i as f64 / n as f64 }).collect()
+    };
+    // A circle whose normal is along `axis` and whose centre is on the axis through `o`.
+    let coaxial = |frame: &cadmorph_nurbs::analytic::Placement, a: f64, b: f64, o: Point3<f64>, axis: Vector3<f64>| {
+        (a - b).abs() <= PARALLEL * a
+            && parallel(frame.z_dir(), axis)
+            && (frame.origin() - o).cross(&axis).norm() <= PARALLEL * a.max((frame.origin() - o).norm()) * axis.norm()
+    };
+    match (c, g) {
+        (CurveGeom::Line(_), SurfaceGeom::Plane(_)) => Some(vec![t0, t1]),
+        (CurveGeom::Line(l), SurfaceGeom::Cylinder(s)) if parallel(l.deriv(t0), s.placement().z_dir()) => {
+            Some(vec![t0, t1])
+        }
+        (CurveGeom::Line(l), SurfaceGeom::Extrusion(s)) if parallel(l.deriv(t0), s.direction()) => Some(vec![t0, t1]),
+        (CurveGeom::Line(l), SurfaceGeom::Cone(_)) => {
+            let (u0, u1) = (invert(g, &l.eval(t0)).0?, invert(g, &l.eval(t1)).0?);
+            let d = (u1 - u0).rem_euclid(TAU);
+            (d.min(TAU - d) <= PARALLEL * TAU).then(|| vec![t0, t1])
+        }
+        (CurveGeom::Conic { frame, a, b }, SurfaceGeom::Plane(s)) => {
+            let mut ts = vec![t0, t1];
+            for e in [s.placement.x_dir(), s.placement.y_dir()] {
+                let (alpha, beta) = (a * frame.x_dir().dot(&e), b * frame.y_dir().dot(&e));
+                if alpha == 0.0 && beta == 0.0 {
+                    continue;
+                }
+                let first = beta.atan2(alpha);
+                // Every first + kπ inside (t0, t1).
+                let mut t = first + ((t0 - first) / std::f64::consts::PI).ceil() * std::f64::consts::PI;
+                while t < t1 {
+                    if t > t0 {
+                        ts.push(t);
+                    }
+                    t += std::f64::consts::PI;
+                }
+            }
+            ts.sort_by(f64::total_cmp);
+            Some(ts)
+        }
+        (CurveGeom::Conic { frame, a, b }, _) => {
+            let about = match g {
+                SurfaceGeom::Cylinder(s) => Some((s.placement().origin(), s.placement().z_dir())),
+                SurfaceGeom::Cone(s) => Some((s.placement().origin(), s.placement().z_dir())),
+                SurfaceGeom::Sphere(s) => Some((s.placement().origin(), s.placement().z_dir())),
+                SurfaceGeom::Torus(s) => Some((s.placement().origin(), s.placement().z_dir())),
+                SurfaceGeom::Revolution(s) => Some((s.axis_point(), s.axis_direction())),
+                _ => None,
+            }?;
+            if coaxial(frame, *a, *b, about.0, about.1) {
+                return Some(turning());
+            }
+            let SurfaceGeom::Torus(s) = g else { return None };
+            // A meridian circle of a ring torus.
+            let (o, z) = (s.placement().origin(), s.placement().z_dir());
+            let radial = frame.origin() - o;
+            let (big, small) = (s.major_radius(), s.minor_radius());
+            let meridian = small < big
+                && (a - small).abs() <= PARALLEL * big
+                && (b - small).abs() <= PARALLEL * big
+                && radial.dot(&z).abs() <= PARALLEL * big
+                && (radial.norm() - big).abs() <= PARALLEL * big
+                && parallel(frame.z_dir(), z.cross(&radial));
+            meridian.then(turning)
+        }
+        _ => None,
     }
 }
 
@@ -359,6 +468,93 @@ fn normalize(a: f64, origin: f64, period: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The closed-form parameters of each kind of edge give the same (u, v) range as
+    /// 20 001 evenly spaced points (they are points of the edge, so never wider, and
+    /// must not be narrower); edges with no closed form are left to the search.
+    #[test]
+    fn closed_form_extremes_bound_the_whole_edge() {
+        use cadmorph_nurbs::analytic::{Cone, Cylinder, Line, Placement, Plane, Torus};
+        let frame = |o: [f64; 3], z: [f64; 3], x: [f64; 3]| {
+            Placement::try_new(Point3::from(o), Vector3::from(z), Vector3::from(x)).unwrap()
+        };
+        let tilted = frame([1.0, -2.0, 3.0], [0.3, -0.5, 0.8], [1.0, 0.2, 0.0]);
+        let (o, x, y, z) = (tilted.origin(), tilted.x_dir(), tilted.y_dir(), tilted.z_dir());
+        let at = |a: f64, b: f64, c: f64| o + x * a + y * b + z * c;
+        let plane = SurfaceGeom::Plane(Plane::new(tilted));
+        let cylinder = SurfaceGeom::Cylinder(Cylinder::try_new(tilted, 4.0).unwrap());
+        let cone = SurfaceGeom::Cone(Cone::try_new(tilted, 4.0, 0.4).unwrap());
+        let torus = SurfaceGeom::Torus(Torus::try_new(tilted, 10.0, 3.0).unwrap());
+        let conic = |f: Placement, a: f64, b: f64| CurveGeom::Conic { frame: f, a, b };
+        let line = |p: Point3<f64>, d: Vector3<f64>| CurveGeom::Line(Line::try_new(p, d).unwrap());
+        // A frame in the plane, turned by 0.7 about its normal, centred at (2, -1).
+        let in_plane = Placement::try_new(at(2.0, -1.0, 0.0), z, x * 0.7f64.cos() + y * 0.7f64.sin()).unwrap();
+        let phi = 0.9f64;
+        let big = 10.0 + 3.0 * phi.cos();
+        let meridian_centre = at(10.0 * 0.4f64.cos(), 10.0 * 0.4f64.sin(), 0.0);
+        let meridian_normal = z.cross(&(meridian_centre - o)).normalize();
+        let cases = [
+            ("line on a plane", &plane, line(at(1.0, 2.0, 0.0), x * 2.0 - y), -3.0, 4.0),
+            ("circle arc on a plane", &plane, conic(in_plane, 5.0, 5.0), 0.3, 5.0),
+            ("ellipse on a plane", &plane, conic(in_plane, 5.0, 2.0), -2.0, 2.5),
+            ("whole ellipse on a plane", &plane, conic(in_plane, 5.0, 2.0), 1.0, 1.0 + TAU),
+            ("generator of a cylinder", &cylinder, line(at(0.0, 4.0, 1.0), z), -2.0, 5.0),
+            (
+                "circle about a cylinder's axis",
+                &cylinder,
+                conic(frame(at(0.0, 0.0, 3.0).into(), z.into(), y.into()), 4.0, 4.0),
+                2.5,
+                4.0,
+            ),
+            (
+                "whole circle about a cylinder's axis",
+                &cylinder,
+                conic(frame(at(0.0, 0.0, -1.0).into(), (-z).into(), x.into()), 4.0, 4.0),
+                1.0,
+                1.0 + TAU,
+            ),
+            ("generator of a cone", &cone, line(at(4.0, 0.0, 0.0), x * 0.4f64.sin() + z * 0.4f64.cos()), 0.5, 6.0),
+            (
+                "parallel of a torus",
+                &torus,
+                conic(frame(at(0.0, 0.0, 3.0 * phi.sin()).into(), z.into(), x.into()), big, big),
+                0.5,
+                3.5,
+            ),
+            (
+                "meridian of a torus",
+                &torus,
+                conic(Placement::try_new(meridian_centre, meridian_normal, z).unwrap(), 3.0, 3.0),
+                0.2,
+                5.9,
+            ),
+        ];
+        for (what, g, c, t0, t1) in cases {
+            let ts = closed_form_params(g, &c, t0, t1).unwrap_or_else(|| panic!("{what}: no closed form"));
+            let (du, dv) = match g {
+                SurfaceGeom::Plane(_) => (Dir::Linear, Dir::Linear),
+                SurfaceGeom::Torus(_) => (ANGLE, ANGLE),
+                _ => (ANGLE, Dir::Linear),
+            };
+            let fast: Vec<_> = ts.iter().map(|&t| invert(g, &c.eval(t))).collect();
+            let n = 20_000;
+            let dense: Vec<_> = (0..=n).map(|i| invert(g, &c.eval(t0 + (t1 - t0) * i as f64 / n as f64))).collect();
+            for (k, dir) in [(0, du), (1, dv)] {
+                let coord = |s: &[(Option<f64>, f64)]| -> Vec<f64> {
+                    s.iter().filter_map(|p| if k == 0 { p.0 } else { Some(p.1) }).collect()
+                };
+                let (a, b) = (range(&[coord(&fast)], dir).unwrap(), range(&[coord(&dense)], dir).unwrap());
+                // Never narrower than the dense points; wider only by what lies between them.
+                assert!(a.0 <= b.0 + 1e-12 && a.1 >= b.1 - 1e-12, "{what}, coordinate {k}: {a:?} misses {b:?}");
+                assert!(b.0 - a.0 < 1e-6 && a.1 - b.1 < 1e-6, "{what}, coordinate {k}: {a:?} against {b:?}");
+            }
+        }
+        // A circle across a cylinder's axis at an angle (an ellipse on it in truth) and a
+        // line across a plane's normal have no closed form here.
+        let oblique = conic(frame(o.into(), (z + x).into(), y.into()), 4.0, 4.0);
+        assert!(closed_form_params(&cylinder, &oblique, 0.0, 1.0).is_none());
+        assert!(closed_form_params(&cylinder, &line(at(4.0, 0.0, 0.0), x + z), 0.0, 1.0).is_none());
+    }
 
     #[test]
     fn angular_ranges() {
