@@ -296,3 +296,54 @@ proptest! {
         exercise(&b);
     }
 }
+
+/// A bicubic B-spline surface `#20` of `n × n` poles `#1000…` on z = x·y, with the text of
+/// pole `odd` replaced by `odd_text` (its parameters, after `CARTESIAN_POINT`).
+fn big_net(n: usize, odd: usize, odd_text: &str) -> String {
+    let mut data = String::new();
+    let refs: Vec<String> = (0..n)
+        .map(|i| format!("({})", (0..n).map(|j| format!("#{}", 1000 + i * n + j)).collect::<Vec<_>>().join(",")))
+        .collect();
+    let knots = |n: usize| format!("({})", (0..n - 2).map(|k| k.to_string() + ".").collect::<Vec<_>>().join(","));
+    let mults = |n: usize| format!("(4,{}4)", "1,".repeat(n - 4));
+    data.push_str(&format!(
+        "#20 = B_SPLINE_SURFACE_WITH_KNOTS('',3,3,({}),.UNSPECIFIED.,.F.,.F.,.F.,{},{},{},{},.UNSPECIFIED.);\n",
+        refs.join(","),
+        mults(n),
+        mults(n),
+        knots(n),
+        knots(n)
+    ));
+    for i in 0..n {
+        for j in 0..n {
+            let k = i * n + j;
+            let (x, y) = (i as f64 * 0.5, j as f64 * 0.25);
+            if k == odd {
+                data.push_str(&format!("#{} = CARTESIAN_POINT{odd_text};\n", 1000 + k));
+            } else {
+                data.push_str(&format!("#{} = CARTESIAN_POINT('',({x:?},{y:?},{:?}));\n", 1000 + k, x * y));
+            }
+        }
+    }
+    wrap(&data)
+}
+
+/// A net large enough to be read on several threads reads every pole, a pole in a form
+/// the fast reader declines (a comment, an integer) included, and a bad pole is reported
+/// with its own instance, as on one thread.
+#[test]
+fn large_pole_nets_read_every_pole_and_name_the_bad_one() {
+    let n = 70; // 4 900 poles: past the parallel threshold
+    let odd = 2 * n + 5; // pole (2, 5): x = 1, y = 1.25
+    let doc = Document::parse(big_net(n, odd, "('' , ( 1 , 1.25 /* c */ , 1.25E0 ))").as_bytes()).unwrap();
+    let s = doc.bspline_surface(EntityId(20)).unwrap();
+    let pts = s.control_points();
+    assert_eq!(pts.len(), n * n);
+    for (k, p) in pts.iter().enumerate() {
+        let (x, y) = ((k / n) as f64 * 0.5, (k % n) as f64 * 0.25);
+        assert_eq!((p.x, p.y, p.z), (x, y, x * y), "pole {k}");
+    }
+    let doc = Document::parse(big_net(n, odd, "('',(1.,'y',3.))").as_bytes()).unwrap();
+    let e = doc.bspline_surface(EntityId(20)).unwrap_err();
+    assert_eq!(pos(&e).2, Some(EntityId(1000 + odd as u64)), "{e}");
+}

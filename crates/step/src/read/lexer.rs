@@ -1,13 +1,9 @@
 //! Tokens of the ISO 10303-21 exchange structure (clause 5 of the standard).
 //!
-//! The lexer works on bytes and never allocates; numbers are recognised with nom and only
-//! converted to `f64` when a typed view asks for them.
-
-use nom::branch::alt;
-use nom::bytes::complete::{tag, take_while, take_while1};
-use nom::character::complete::{digit0, digit1, one_of};
-use nom::combinator::{opt, recognize};
-use nom::{IResult, Parser};
+//! The lexer works on bytes and never allocates; numbers are only recognised here and
+//! converted to `f64` when a typed view asks for them. Each token form is a short loop
+//! over the bytes (clause 5.3's grammar has no backtracking beyond an exponent without
+//! digits); combinator parsers cost a third of the reading time on large files.
 
 /// The kinds of token.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -70,34 +66,61 @@ pub(crate) struct Lexer<'a> {
     pub pos: usize,
 }
 
-fn keyword(i: &[u8]) -> IResult<&[u8], &[u8]> {
-    recognize((
-        opt(tag(&b"!"[..])),
-        take_while1(|c: u8| c.is_ascii_alphabetic() || c == b'_'),
-        take_while(|c: u8| c.is_ascii_alphanumeric() || c == b'_'),
-    ))
-    .parse(i)
+/// The end of the run of bytes from `i` that satisfy `f`.
+fn run(s: &[u8], mut i: usize, f: impl Fn(u8) -> bool) -> usize {
+    while i < s.len() && f(s[i]) {
+        i += 1;
+    }
+    i
 }
 
-/// `[+-]digits[.digits][E[+-]digits]`; returns whether a `.` or exponent made it real.
-fn number(i: &[u8]) -> IResult<&[u8], (&[u8], bool)> {
-    let (rest, (sign_digits, frac, exp)) = (
-        recognize((opt(one_of("+-")), digit1)),
-        opt(recognize((tag(&b"."[..]), digit0))),
-        opt(recognize((one_of("eE"), opt(one_of("+-")), digit1))),
-    )
-        .parse(i)?;
-    let len = i.len() - rest.len();
-    let _ = sign_digits;
-    Ok((rest, (&i[..len], frac.is_some() || exp.is_some())))
+fn is_name(c: u8) -> bool {
+    c.is_ascii_alphanumeric() || c == b'_'
 }
 
-fn enumeration(i: &[u8]) -> IResult<&[u8], &[u8]> {
-    recognize((tag(&b"."[..]), take_while1(|c: u8| c.is_ascii_alphanumeric() || c == b'_'), tag(&b"."[..]))).parse(i)
+/// `[!]letter{letter|digit|_}` (a keyword; `_` counts as a letter): the end, if one
+/// starts at `i`.
+fn keyword_end(s: &[u8], i: usize) -> Option<usize> {
+    let i = if s.get(i) == Some(&b'!') { i + 1 } else { i };
+    match s.get(i) {
+        Some(&c) if c.is_ascii_alphabetic() || c == b'_' => Some(run(s, i + 1, is_name)),
+        _ => None,
+    }
 }
 
-fn reference(i: &[u8]) -> IResult<&[u8], &[u8]> {
-    recognize((alt((tag(&b"#"[..]), tag(&b"@"[..]))), digit1)).parse(i)
+/// `[+-]digits[.digits][E[+-]digits]` from `i`: the end and whether a `.` or an exponent
+/// made it real. An `E` not followed by digits is not part of the number.
+fn number_end(s: &[u8], i: usize) -> Option<(usize, bool)> {
+    let digits = run(s, if matches!(s.get(i), Some(b'+' | b'-')) { i + 1 } else { i }, |c| c.is_ascii_digit());
+    if digits == i || !s[digits - 1].is_ascii_digit() {
+        return None;
+    }
+    let (mut end, mut real) = (digits, false);
+    if s.get(end) == Some(&b'.') {
+        end = run(s, end + 1, |c| c.is_ascii_digit());
+        real = true;
+    }
+    if matches!(s.get(end), Some(b'e' | b'E')) {
+        let from = if matches!(s.get(end + 1), Some(b'+' | b'-')) { end + 2 } else { end + 1 };
+        let to = run(s, from, |c| c.is_ascii_digit());
+        if to > from {
+            end = to;
+            real = true;
+        }
+    }
+    Some((end, real))
+}
+
+/// `.NAME.` from `i` (at the first `.`): the end.
+fn enumeration_end(s: &[u8], i: usize) -> Option<usize> {
+    let name = run(s, i + 1, is_name);
+    (name > i + 1 && s.get(name) == Some(&b'.')).then_some(name + 1)
+}
+
+/// `#digits` or `@digits` from `i` (at the `#` or `@`): the end.
+fn reference_end(s: &[u8], i: usize) -> Option<usize> {
+    let end = run(s, i + 1, |c| c.is_ascii_digit());
+    (end > i + 1).then_some(end)
 }
 
 impl<'a> Lexer<'a> {
@@ -180,23 +203,21 @@ impl<'a> Lexer<'a> {
                 None => return Err(LexError::UnterminatedString(start)),
                 Some(k) => Token { kind: Kind::Binary, start, end: start + k + 2 },
             },
-            b'#' | b'@' => match reference(&s[start..]) {
-                Ok((rest, _)) => Token { kind: Kind::Reference, start, end: s.len() - rest.len() },
-                Err(_) => return Err(LexError::Unexpected(start)),
+            b'#' | b'@' => match reference_end(s, start) {
+                Some(end) => Token { kind: Kind::Reference, start, end },
+                None => return Err(LexError::Unexpected(start)),
             },
-            b'.' => match enumeration(&s[start..]) {
-                Ok((rest, _)) => Token { kind: Kind::Enumeration, start, end: s.len() - rest.len() },
-                Err(_) => return Err(LexError::Unexpected(start)),
+            b'.' => match enumeration_end(s, start) {
+                Some(end) => Token { kind: Kind::Enumeration, start, end },
+                None => return Err(LexError::Unexpected(start)),
             },
-            b'+' | b'-' | b'0'..=b'9' => match number(&s[start..]) {
-                Ok((rest, (_, real))) => {
-                    Token { kind: if real { Kind::Real } else { Kind::Integer }, start, end: s.len() - rest.len() }
-                }
-                Err(_) => return Err(LexError::Unexpected(start)),
+            b'+' | b'-' | b'0'..=b'9' => match number_end(s, start) {
+                Some((end, real)) => Token { kind: if real { Kind::Real } else { Kind::Integer }, start, end },
+                None => return Err(LexError::Unexpected(start)),
             },
-            _ => match keyword(&s[start..]) {
-                Ok((rest, _)) => Token { kind: Kind::Keyword, start, end: s.len() - rest.len() },
-                Err(_) => return Err(LexError::Unexpected(start)),
+            _ => match keyword_end(s, start) {
+                Some(end) => Token { kind: Kind::Keyword, start, end },
+                None => return Err(LexError::Unexpected(start)),
             },
         };
         self.pos = tok.end;
@@ -263,6 +284,37 @@ mod tests {
                 End
             ]
         );
+    }
+
+    /// Each token form's edges: where a number, keyword, enumeration or reference ends,
+    /// and what starts none.
+    #[test]
+    fn token_ends() {
+        let first = |text: &str| Lexer::new(text.as_bytes(), 0).next_token().map(|t| (t.kind, t.end));
+        use Kind::*;
+        assert_eq!(first("12,"), Ok((Integer, 2)));
+        assert_eq!(first("-12)"), Ok((Integer, 3)));
+        assert_eq!(first("+7"), Ok((Integer, 2)));
+        assert_eq!(first("1."), Ok((Real, 2)));
+        assert_eq!(first("1.E5,"), Ok((Real, 4)));
+        assert_eq!(first("-2.5e-07)"), Ok((Real, 8)));
+        assert_eq!(first("3E+2"), Ok((Real, 4)));
+        // An exponent without digits is not part of the number.
+        assert_eq!(first("3E"), Ok((Integer, 1)));
+        assert_eq!(first("3.5E+,"), Ok((Real, 3)));
+        assert_eq!(first("-"), Err(LexError::Unexpected(0)));
+        assert_eq!(first("+."), Err(LexError::Unexpected(0)));
+        assert_eq!(first("ABC_1(x"), Ok((Keyword, 5)));
+        assert_eq!(first("_A9 "), Ok((Keyword, 3)));
+        assert_eq!(first("!USER_DEF("), Ok((Keyword, 9)));
+        assert_eq!(first("!1"), Err(LexError::Unexpected(0)));
+        assert_eq!(first(".T.,"), Ok((Enumeration, 3)));
+        assert_eq!(first(".UNSPECIFIED."), Ok((Enumeration, 13)));
+        assert_eq!(first(".."), Err(LexError::Unexpected(0)));
+        assert_eq!(first(".T"), Err(LexError::Unexpected(0)));
+        assert_eq!(first("#123)"), Ok((Reference, 4)));
+        assert_eq!(first("@7"), Ok((Reference, 2)));
+        assert_eq!(first("@"), Err(LexError::Unexpected(0)));
     }
 
     #[test]

@@ -164,6 +164,26 @@ impl<'a> Ctx<'a> {
         Ok(Point3::from(xyz))
     }
 
+    /// The points `ids` in order, as [`point`](Self::point) reads each. A large net
+    /// (at least [`PARALLEL_POINTS`]) is read on rayon's threads: its points are most of a
+    /// B-spline file's text, and reading one is independent of the others. A point the
+    /// fast form does not read (or an error) is read again here, on this thread, with the
+    /// full reader and its error.
+    pub fn points(&self, ids: &[EntityId]) -> Result<Vec<Point3<f64>>> {
+        let doc = self.doc;
+        let fast = |id: &EntityId| {
+            let k = doc.index.get(id.0)?;
+            fast_point(doc.text(k), doc.instances[k].body as usize)
+        };
+        let read: Vec<Option<Point3<f64>>> = if ids.len() >= PARALLEL_POINTS {
+            use rayon::prelude::*;
+            ids.par_iter().with_min_len(1024).map(fast).collect()
+        } else {
+            ids.iter().map(fast).collect()
+        };
+        ids.iter().zip(read).map(|(&id, p)| p.map_or_else(|| self.point(id), Ok)).collect()
+    }
+
     /// `DIRECTION('', (x, y, z))`.
     pub fn direction(&self, id: EntityId) -> Result<Vector3<f64>> {
         let r = self.simple(id, "DIRECTION")?;
@@ -368,10 +388,10 @@ impl<'a> Ctx<'a> {
     fn surface_inner(&self, id: EntityId) -> Result<SurfaceGeom> {
         let k = self.index(id)?;
         let body = self.doc.body_at(k)?;
-        if let Body::Complex(_) = body {
-            return self.bspline_surface(k, &body).map(SurfaceGeom::Nurbs);
+        if matches!(body, Body::Complex(_)) || self.doc.name_of(k) == "B_SPLINE_SURFACE_WITH_KNOTS" {
+            return self.bspline_surface(k, body).map(SurfaceGeom::Nurbs);
         }
-        let r = Rec::new(self.doc, k, body.clone())?;
+        let r = Rec::new(self.doc, k, body)?;
         let ls = self.length_scale;
         match r.name() {
             "PLANE" => {
@@ -415,7 +435,6 @@ impl<'a> Ctx<'a> {
                 let nc = self.bounded_nurbs(&r, 1, &c)?;
                 Extrusion::try_new(nc, d).map(SurfaceGeom::Extrusion).map_err(|e| r.geometry(e))
             }
-            "B_SPLINE_SURFACE_WITH_KNOTS" => self.bspline_surface(k, &body).map(SurfaceGeom::Nurbs),
             "RECTANGULAR_TRIMMED_SURFACE" => {
                 // ('', basis, u1, u2, v1, v2, usense, vsense)
                 r.arity(8)?;
@@ -449,10 +468,10 @@ impl<'a> Ctx<'a> {
     }
 
     /// `B_SPLINE_SURFACE_WITH_KNOTS` (simple) or the rational complex form.
-    pub fn bspline_surface(&self, k: usize, body: &Body<'_>) -> Result<NurbsSurface> {
+    pub fn bspline_surface(&self, k: usize, body: Body<'_>) -> Result<NurbsSurface> {
         let (head, knots_rec, weights) = match body {
             Body::Simple(rec) => {
-                let r = Rec::from_record(self.doc, k, rec.clone());
+                let r = Rec::from_record(self.doc, k, rec);
                 if r.name() != "B_SPLINE_SURFACE_WITH_KNOTS" {
                     return Err(Error::UnexpectedEntity {
                         at: self.doc.position_of(k, 0),
@@ -464,9 +483,9 @@ impl<'a> Ctx<'a> {
                 (r.clone().shifted(1), r.shifted(8), None)
             }
             Body::Complex(_) => {
-                let b = self.leaf(k, body, "B_SPLINE_SURFACE")?;
+                let b = self.leaf(k, &body, "B_SPLINE_SURFACE")?;
                 b.arity(7)?;
-                let kn = self.leaf(k, body, "B_SPLINE_SURFACE_WITH_KNOTS")?;
+                let kn = self.leaf(k, &body, "B_SPLINE_SURFACE_WITH_KNOTS")?;
                 kn.arity(5)?;
                 let w = match body.record("RATIONAL_B_SPLINE_SURFACE") {
                     Some(rec) => {
@@ -484,16 +503,17 @@ impl<'a> Ctx<'a> {
         let rows = head.list(2)?;
         let n_u = rows.len();
         let n_v = rows.first().and_then(Param::as_list).map_or(0, <[Param<'_>]>::len);
-        let mut points = Vec::with_capacity(n_u * n_v);
+        let mut ids = Vec::with_capacity(n_u * n_v);
         for row in rows {
             let row = row.as_list().ok_or_else(|| head.err_at(row, 2, "a list of rows of point references"))?;
             if row.len() != n_v {
                 return Err(head.err(2, "rows of equal length"));
             }
             for p in row {
-                points.push(self.point(p.as_ref_id().ok_or_else(|| head.err_at(p, 2, "a point reference"))?)?);
+                ids.push(p.as_ref_id().ok_or_else(|| head.err_at(p, 2, "a point reference"))?);
             }
         }
+        let points = self.points(&ids)?;
         let weights = match weights {
             Some(w) => {
                 let rows = w.list(0)?;
@@ -535,6 +555,11 @@ fn knot_vector(r: &Rec<'_>, values: &[f64], mults: &[usize]) -> Result<KnotVecto
 
 pub(crate) use cadmorph_nurbs::analytic::occt_default_x as default_x;
 
+/// Pole nets of at least this many points are read in parallel by [`Ctx::points`]
+/// (about a millisecond of reading on one thread; below it, waking threads costs more
+/// than it saves).
+pub(crate) const PARALLEL_POINTS: usize = 4096;
+
 /// Reads `CARTESIAN_POINT ( '...' , ( x , y , z ) )` directly; `None` when the text has
 /// any other shape (then the general parser decides).
 fn fast_point(text: &[u8], body: usize) -> Option<Point3<f64>> {
@@ -575,11 +600,12 @@ fn fast_point(text: &[u8], body: usize) -> Option<Point3<f64>> {
         while i < t.len() && matches!(t[i], b'0'..=b'9' | b'.' | b'-' | b'+' | b'E' | b'e') {
             i += 1;
         }
-        let s = std::str::from_utf8(&t[start..i]).ok()?;
-        if !s.as_bytes().first()?.is_ascii_digit() && !matches!(s.as_bytes()[0], b'-' | b'+') {
+        let s = &t[start..i];
+        if !s.first()?.is_ascii_digit() && !matches!(s[0], b'-' | b'+') {
             return None;
         }
-        *slot = s.parse().ok()?;
+        // Correctly rounded, as `str::parse`, from the bytes (no UTF-8 check).
+        *slot = fast_float2::parse(s).ok()?;
         i = ws(t, i);
         let want = if n == 2 { b')' } else { b',' };
         if t.get(i)? != &want {
@@ -601,6 +627,24 @@ mod tests {
         assert_eq!(fast_point(b"#1 = CARTESIAN_POINT('',(1.,2.));", 5), None);
         assert_eq!(fast_point(b"#1 = CARTESIAN_POINT('it''s',(1.,2.,3.));", 5), None);
         assert_eq!(fast_point(b"#1 = CARTESIAN_POINT('',(1.,2.,3./**/));", 5), None);
+        // Every real form of ISO 10303-21 §6.3.2 reads as `str::parse` reads it.
+        for x in [
+            "1.",
+            "+1.",
+            "-0.",
+            "1.E5",
+            "1.E-05",
+            "-2.5E-07",
+            "3.14159265358979",
+            "1.7976931348623157E308",
+            "2.2250738585072014E-308",
+            "0.1000000000000000055511151231257827",
+        ] {
+            let text = format!("#1 = CARTESIAN_POINT('',({x},{x},{x}));");
+            let want: f64 = x.parse().unwrap();
+            let p = fast_point(text.as_bytes(), 5).unwrap();
+            assert!(p.iter().all(|c| c.to_bits() == want.to_bits()), "{x}: {p:?}");
+        }
     }
 
     #[test]

@@ -230,14 +230,16 @@ impl<'d> Ctx<'d> {
 pub(crate) struct Rec<'d> {
     doc: &'d Document,
     k: usize,
-    rec: Record<'d>,
+    /// Shared, so that a record read once can be viewed at several shifts (a subtype's
+    /// own attributes after its supertype's) without copying its parameter tree.
+    rec: std::rc::Rc<Record<'d>>,
     shift: usize,
 }
 
 impl<'d> Rec<'d> {
     pub fn new(doc: &'d Document, k: usize, body: Body<'d>) -> Result<Self> {
         match body {
-            Body::Simple(rec) => Ok(Self { doc, k, rec, shift: 0 }),
+            Body::Simple(rec) => Ok(Self { doc, k, rec: std::rc::Rc::new(rec), shift: 0 }),
             Body::Complex(leaves) => Err(Error::UnexpectedEntity {
                 at: doc.position_of(k, 0),
                 expected: "a simple instance",
@@ -247,7 +249,7 @@ impl<'d> Rec<'d> {
     }
 
     pub fn from_record(doc: &'d Document, k: usize, rec: Record<'d>) -> Self {
-        Self { doc, k, rec, shift: 0 }
+        Self { doc, k, rec: std::rc::Rc::new(rec), shift: 0 }
     }
 
     pub fn shifted(mut self, by: usize) -> Self {

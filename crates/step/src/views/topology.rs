@@ -555,7 +555,7 @@ impl Document {
     pub fn bspline_surface(&self, id: EntityId) -> Result<cadmorph_nurbs::NurbsSurface> {
         let ctx = Ctx::new(self, 1.0);
         let k = ctx.index(id)?;
-        ctx.bspline_surface(k, &self.body_at(k)?)
+        ctx.bspline_surface(k, self.body_at(k)?)
     }
 
     /// The B-spline curve `#id` (simple or rational complex form) over its whole domain,
