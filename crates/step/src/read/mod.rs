@@ -140,6 +140,173 @@ impl<'a> Reader<'a> {
     }
 }
 
+/// What the instance loop gathered from (part of) a data section.
+#[derive(Default)]
+struct Gathered {
+    instances: Vec<Instance>,
+    /// Every reference: target id and byte offset.
+    refs: Vec<(u64, usize)>,
+    /// The position in `instances` of the instance holding each reference.
+    ref_owner: Vec<u32>,
+    max_id: u64,
+}
+
+impl Gathered {
+    /// Appends `other`, read after `self`.
+    fn append(&mut self, other: Gathered) {
+        let base = self.instances.len() as u32;
+        self.ref_owner.extend(other.ref_owner.into_iter().map(|k| k + base));
+        self.instances.extend(other.instances);
+        self.refs.extend(other.refs);
+        self.max_id = self.max_id.max(other.max_id);
+    }
+}
+
+/// Where [`Reader::instances`] stopped.
+enum DataEnd {
+    /// At `ENDSEC` (consumed, not its `;`), starting at the offset.
+    Endsec(usize),
+    /// At the given stop offset, between instances.
+    Stop,
+}
+
+/// Data sections of at least this many bytes are read in parallel (see
+/// [`Reader::data_parallel`]); below it the threads cost more than they save.
+const PARALLEL_BYTES: usize = 1 << 20;
+
+/// The offsets of up to `n - 1` line starts `\n#` in `src[from..]`, evenly spread and
+/// increasing: where a writer that puts each instance on its own line starts one.
+fn cut_points(src: &[u8], from: usize, n: usize) -> Vec<usize> {
+    let mut cuts = Vec::with_capacity(n);
+    let len = src.len() - from;
+    for i in 1..n {
+        let target = from + len * i / n;
+        let after = cuts.last().map_or(target, |&c: &usize| c.max(target));
+        if let Some(k) = src[after..].windows(2).position(|w| w == b"\n#") {
+            let cut = after + k + 1;
+            if cuts.last() != Some(&cut) {
+                cuts.push(cut);
+            }
+        }
+    }
+    cuts
+}
+
+impl Reader<'_> {
+    /// Reads instances `#n = ...;` up to `ENDSEC`, or with `stop` up to the first token
+    /// at or after `stop` (the reader then stands there, after blanks and comments).
+    fn instances(&mut self, g: &mut Gathered, stop: Option<usize>) -> Result<DataEnd> {
+        let bytes = self.lx.src;
+        loop {
+            if let Some(stop) = stop {
+                self.lx.skip_space().map_err(|e| self.lex_error(e))?;
+                if self.lx.pos >= stop {
+                    return Ok(DataEnd::Stop);
+                }
+            }
+            let t = self.next()?;
+            match t.kind {
+                Kind::Keyword if &bytes[t.start..t.end] == b"ENDSEC" => return Ok(DataEnd::Endsec(t.start)),
+                Kind::Reference if bytes[t.start] == b'#' => {
+                    let id = reference_id(&bytes[t.start..t.end]).ok_or_else(|| Error::Limit {
+                        at: self.at(t.start),
+                        what: "instance id does not fit 64 bits",
+                    })?;
+                    self.current = Some(EntityId(id));
+                    self.expect(Kind::Equals, "'=' after the instance id")?;
+                    let body = self.next()?;
+                    let (complex, name_len) = match body.kind {
+                        Kind::Keyword => {
+                            self.record(&mut g.refs)?;
+                            (false, body.end - body.start)
+                        }
+                        Kind::Open => {
+                            let mut first = None;
+                            loop {
+                                let leaf = self.next()?;
+                                match leaf.kind {
+                                    Kind::Keyword => {
+                                        first.get_or_insert(leaf.end - leaf.start);
+                                        self.record(&mut g.refs)?;
+                                    }
+                                    Kind::Close if first.is_some() => break,
+                                    _ => return Err(self.unexpected(leaf, "a leaf record of a complex instance")),
+                                }
+                            }
+                            (true, first.unwrap_or(0))
+                        }
+                        _ => return Err(self.unexpected(body, "an entity name or '('")),
+                    };
+                    let semi = self.expect(Kind::Semicolon, "';' after an instance")?;
+                    g.ref_owner.resize(g.refs.len(), g.instances.len() as u32);
+                    g.max_id = g.max_id.max(id);
+                    g.instances.push(Instance {
+                        id,
+                        start: t.start,
+                        end: semi.end,
+                        body: (body.start - t.start) as u32,
+                        name_len: name_len as u32,
+                        complex,
+                    });
+                    self.current = None;
+                }
+                _ => return Err(self.unexpected(t, "an instance '#n = ...;' or ENDSEC")),
+            }
+        }
+    }
+
+    /// [`instances`](Self::instances) up to `ENDSEC` on all of rayon's threads: the rest
+    /// of the input is cut at line starts `\n#` ([`cut_points`]) and each piece read from
+    /// its cut to the next on its own. A piece counts only when the piece before it
+    /// stopped exactly at its cut, so that its cut is an instance start of the sequential
+    /// reading (not inside a string or a comment); the first piece starts where the
+    /// sequential reading stands, so each accepted piece is what the sequential reading
+    /// would have read there. The piece that reaches `ENDSEC` ends the section (the pieces
+    /// after it are dropped). Any mismatch or error reads the section again on this
+    /// thread, so results and errors are the sequential reading's. Returns the offset of
+    /// `ENDSEC`.
+    fn data_parallel(&mut self, g: &mut Gathered) -> Result<usize> {
+        use rayon::prelude::*;
+        let src = self.lx.src;
+        let from = self.lx.pos;
+        let pieces = (rayon::current_num_threads() * 4).min((src.len() - from) / (64 << 10)).max(1);
+        let cuts = cut_points(src, from, pieces);
+        let sequential = |r: &mut Self, g: &mut Gathered| match r.instances(g, None)? {
+            DataEnd::Endsec(at) => Ok(at),
+            DataEnd::Stop => unreachable!("no stop was given"),
+        };
+        if cuts.is_empty() {
+            return sequential(self, g);
+        }
+        let starts: Vec<usize> = std::iter::once(from).chain(cuts.iter().copied()).collect();
+        let read: Vec<(Result<(Gathered, DataEnd)>, usize)> = starts
+            .par_iter()
+            .enumerate()
+            .map(|(i, &start)| {
+                let mut r = Reader { lx: Lexer::new(src, start), current: None };
+                let mut piece = Gathered::default();
+                let end = r.instances(&mut piece, cuts.get(i).copied());
+                (end.map(|e| (piece, e)), r.lx.pos)
+            })
+            .collect();
+        let mut all = Gathered::default();
+        for (i, (result, pos)) in read.into_iter().enumerate() {
+            match result {
+                Ok((piece, DataEnd::Stop)) if Some(pos) == cuts.get(i).copied() => all.append(piece),
+                Ok((piece, DataEnd::Endsec(at))) => {
+                    all.append(piece);
+                    g.append(all);
+                    self.lx.pos = pos;
+                    return Ok(at);
+                }
+                _ => break,
+            }
+        }
+        self.lx.pos = from;
+        sequential(self, g)
+    }
+}
+
 fn excerpt(src: &[u8], offset: usize) -> String {
     if offset >= src.len() {
         return "end of file".into();
@@ -172,6 +339,12 @@ impl Document {
     /// assert_eq!(err.to_string(), "line 5, column 12, instance #1: unterminated string");
     /// ```
     pub fn parse(bytes: &[u8]) -> Result<Document> {
+        Self::parse_with(bytes, PARALLEL_BYTES)
+    }
+
+    /// [`parse`](Self::parse), reading data sections of at least `parallel_bytes` bytes
+    /// in parallel.
+    fn parse_with(bytes: &[u8], parallel_bytes: usize) -> Result<Document> {
         let mut r = Reader { lx: Lexer::new(bytes, 0), current: None };
         if !r.lx.eat_literal(MAGIC).map_err(|e| r.lex_error(e))? {
             return Err(Error::Syntax {
@@ -183,11 +356,8 @@ impl Document {
         r.expect(Kind::Semicolon, "';' after ISO-10303-21")?;
 
         let mut header = Vec::new();
-        let mut instances: Vec<Instance> = Vec::new();
-        let mut refs: Vec<(u64, usize)> = Vec::new();
-        let mut ref_owner: Vec<u32> = Vec::new(); // instance position of each reference
+        let mut data = Gathered::default();
         let mut insert_at = None;
-        let mut max_id = 0u64;
 
         loop {
             if r.lx.eat_literal(END_MAGIC).map_err(|e| r.lex_error(e))? {
@@ -228,66 +398,16 @@ impl Document {
                     if t.kind != Kind::Semicolon {
                         return Err(r.unexpected(t, "';' after DATA"));
                     }
-                    loop {
-                        let t = r.next()?;
-                        match t.kind {
-                            Kind::Keyword if &bytes[t.start..t.end] == b"ENDSEC" => {
-                                insert_at = Some(t.start);
-                                r.expect(Kind::Semicolon, "';' after ENDSEC")?;
-                                break;
-                            }
-                            Kind::Reference if bytes[t.start] == b'#' => {
-                                let id = reference_id(&bytes[t.start..t.end]).ok_or_else(|| Error::Limit {
-                                    at: r.at(t.start),
-                                    what: "instance id does not fit 64 bits",
-                                })?;
-                                r.current = Some(EntityId(id));
-                                r.expect(Kind::Equals, "'=' after the instance id")?;
-                                let n_refs = refs.len();
-                                let body = r.next()?;
-                                let (complex, name_len) = match body.kind {
-                                    Kind::Keyword => {
-                                        r.record(&mut refs)?;
-                                        (false, body.end - body.start)
-                                    }
-                                    Kind::Open => {
-                                        let mut first = None;
-                                        loop {
-                                            let leaf = r.next()?;
-                                            match leaf.kind {
-                                                Kind::Keyword => {
-                                                    first.get_or_insert(leaf.end - leaf.start);
-                                                    r.record(&mut refs)?;
-                                                }
-                                                Kind::Close if first.is_some() => break,
-                                                _ => {
-                                                    return Err(
-                                                        r.unexpected(leaf, "a leaf record of a complex instance")
-                                                    )
-                                                }
-                                            }
-                                        }
-                                        (true, first.unwrap_or(0))
-                                    }
-                                    _ => return Err(r.unexpected(body, "an entity name or '('")),
-                                };
-                                let semi = r.expect(Kind::Semicolon, "';' after an instance")?;
-                                ref_owner.resize(refs.len(), instances.len() as u32);
-                                let _ = n_refs;
-                                max_id = max_id.max(id);
-                                instances.push(Instance {
-                                    id,
-                                    start: t.start,
-                                    end: semi.end,
-                                    body: (body.start - t.start) as u32,
-                                    name_len: name_len as u32,
-                                    complex,
-                                });
-                                r.current = None;
-                            }
-                            _ => return Err(r.unexpected(t, "an instance '#n = ...;' or ENDSEC")),
+                    let endsec = if bytes.len() - r.lx.pos >= parallel_bytes {
+                        r.data_parallel(&mut data)?
+                    } else {
+                        match r.instances(&mut data, None)? {
+                            DataEnd::Endsec(at) => at,
+                            DataEnd::Stop => unreachable!("no stop was given"),
                         }
-                    }
+                    };
+                    insert_at = Some(endsec);
+                    r.expect(Kind::Semicolon, "';' after ENDSEC")?;
                 }
                 _ => {
                     // Other sections (ANCHOR, REFERENCE, SIGNATURE ...): kept verbatim, checked
@@ -307,6 +427,7 @@ impl Document {
             }
         }
 
+        let Gathered { instances, refs, ref_owner, max_id } = data;
         // Index. A dense table when ids are compact (its size is bounded by the input
         // length), a hash map otherwise.
         let n = instances.len();
@@ -390,4 +511,100 @@ pub(crate) fn scan_instance(text: &[u8]) -> Result<(Instance, Vec<u64>)> {
         Instance { id, start: 0, end: semi.end, body: body.start as u32, name_len: name_len as u32, complex },
         refs.into_iter().map(|(id, _)| id).collect(),
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Instances in the data sections of `doc`: id, span, body, name, complex.
+    fn listing(doc: &Document) -> Vec<(u64, usize, usize, u32, u32, bool)> {
+        doc.instances.iter().map(|i| (i.id, i.start, i.end, i.body, i.name_len, i.complex)).collect()
+    }
+
+    /// A data section of `n` instances in which every `k`-th holds a string or is
+    /// followed by a comment that contains a line start `#` (where the parallel reading
+    /// cuts): read from there, the comment holds a valid instance and ends in another
+    /// comment, so a piece started there reads on without error. Complex instances and
+    /// references backwards and forwards.
+    fn data(n: usize, k: usize) -> String {
+        let mut d = String::new();
+        for i in 1..=n {
+            let next = if i < n { i + 1 } else { 1 };
+            match i % k {
+                0 => d.push_str(&format!("#{i} = NAME('line\n#{} = FAKE(''x'');\n',#{next});\n", i + 7)),
+                1 => d.push_str(&format!(
+                    "#{i} = ( A(1.5,#{next}) B('b') );\n/* a comment\n#{} = FAKE();\n/* */\n",
+                    i + 3
+                )),
+                _ => d.push_str(&format!("#{i} = CARTESIAN_POINT('',({i}.,-2.5E-1,#{next}));\n")),
+            }
+        }
+        d
+    }
+
+    fn file(sections: &[String]) -> String {
+        let mut f = String::from("ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\nENDSEC;\n");
+        for s in sections {
+            f.push_str("DATA;\n");
+            f.push_str(s);
+            f.push_str("ENDSEC;\n");
+        }
+        f.push_str("END-ISO-10303-21;\n");
+        f
+    }
+
+    /// Read in pieces on several threads (cut at line starts, some inside strings and
+    /// comments, with the threshold lowered so that small texts are cut into many), the
+    /// document is the one-thread reading's, and so is every error.
+    #[test]
+    fn parallel_reading_is_the_sequential_reading() {
+        for (n, k) in [(20000, 7), (20000, 1), (5000, 2), (20, 3)] {
+            let sections = [data(n, k)];
+            let text = file(&sections);
+            let (one, many) =
+                (Document::parse_with(text.as_bytes(), usize::MAX), Document::parse_with(text.as_bytes(), 1));
+            let (one, many) = (one.unwrap(), many.unwrap());
+            assert_eq!(listing(&one), listing(&many), "{n} instances, every {k}th odd");
+            assert_eq!(one.insert_at, many.insert_at);
+            assert_eq!(one.max_id, many.max_id);
+            assert_eq!(many.write(), text.as_bytes());
+        }
+        // Two data sections.
+        let second: String = data(2000, 5).replace('#', "#10000");
+        let text = file(&[data(3000, 4), second]);
+        let (one, many) = (Document::parse_with(text.as_bytes(), usize::MAX), Document::parse_with(text.as_bytes(), 1));
+        let (one, many) = (one.unwrap(), many.unwrap());
+        assert_eq!(listing(&one), listing(&many));
+        assert_eq!(one.insert_at, many.insert_at);
+        // Errors anywhere: a bad token, a dangling reference, a duplicate id, a missing ';', a
+        // comment left open.
+        let good = data(3000, 6);
+        for (what, bad) in [
+            ("bad token", good.replacen("#2000 = CARTESIAN_POINT('',(", "#2000 = CARTESIAN_POINT('',(?", 1)),
+            ("dangling", good.replacen(",#1503));", ",#99999));", 1)),
+            ("duplicate", good.replacen("#2500 = CARTESIAN", "#2499 = CARTESIAN", 1)),
+            ("missing ';'", good.replacen("(2800.,-2.5E-1,#2801));", "(2800.,-2.5E-1,#2801))", 1)),
+            ("comment left open", good.replacen("#2900 = ", "/* #2900 = ", 1).replace("*/", "")),
+        ] {
+            assert!(bad != good, "{what}: the text did not change");
+            let text = file(&[bad]);
+            let err = |parallel_bytes| match Document::parse_with(text.as_bytes(), parallel_bytes) {
+                Ok(_) => panic!("{what}: read without error"),
+                Err(e) => e.to_string(),
+            };
+            let (one, many) = (err(usize::MAX), err(1));
+            assert_eq!(one, many, "{what}");
+        }
+    }
+
+    #[test]
+    fn cut_points_are_line_starts_in_order() {
+        let text = b"DATA;\n#1=A();\n#2=B();\n#3=C();\n#4=D();\n";
+        let cuts = cut_points(text, 6, 4);
+        assert!(!cuts.is_empty());
+        assert!(cuts.windows(2).all(|w| w[0] < w[1]));
+        assert!(cuts.iter().all(|&c| text[c] == b'#' && text[c - 1] == b'\n' && c > 6));
+        assert!(cut_points(b"#1=A();#2=B();", 0, 4).is_empty());
+    }
 }
