@@ -27,11 +27,7 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 fn parse_world(bytes: &[u8]) -> usize {
     let doc = Document::parse(bytes).expect("parses");
     let faces = doc.faces().expect("faces");
-    let mut poles = 0;
-    for f in &faces {
-        poles += doc.face_nurbs(f).expect("world NURBS").surface.control_points().len();
-    }
-    poles
+    doc.faces_nurbs(&faces).into_iter().map(|w| w.expect("world NURBS").surface.control_points().len()).sum()
 }
 
 fn bench(c: &mut Criterion) {

@@ -25,8 +25,8 @@ fn parse_world(bytes: &[u8]) -> (usize, usize, f64) {
     let doc = Document::parse(bytes).expect("parses");
     let faces = doc.faces().expect("faces");
     let (mut poles, mut checksum) = (0, 0.0);
-    for f in &faces {
-        let world = doc.face_nurbs(f).expect("world NURBS");
+    for world in doc.faces_nurbs(&faces) {
+        let world = world.expect("world NURBS");
         for p in world.surface.control_points() {
             checksum += p.x + p.y + p.z;
         }

@@ -78,9 +78,10 @@ impl CadDocument for Document {
 
     fn faces(&self) -> cadmorph_brep::Result<FaceSet> {
         let mut out = FaceSet::default();
-        for f in Document::faces(self).map_err(err)? {
+        let faces = Document::faces(self).map_err(err)?;
+        for (f, world) in faces.iter().zip(self.faces_nurbs(&faces)) {
             let entity = r(f.id, f.occurrence);
-            match self.face_nurbs(&f) {
+            match world {
                 Ok(ws) => {
                     let (kind, type_name) = kind_of(&f.kind);
                     out.faces.push(Face {

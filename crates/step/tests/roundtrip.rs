@@ -59,3 +59,21 @@ fn header_and_counts() {
     assert_eq!(counts["CYLINDRICAL_SURFACE"], 1);
     assert!(counts.keys().any(|k| k.starts_with("(BOUNDED_SURFACE B_SPLINE_SURFACE") || k.starts_with("(")));
 }
+
+/// `faces_nurbs` (parallel from 16 faces) gives each face exactly what `face_nurbs` gives
+/// it, in order, on every sample (mapped_item.stp has 35 faces, the assemblies 30).
+#[test]
+fn faces_nurbs_is_face_nurbs_of_each_face() {
+    let mut parallel = 0;
+    for name in cadmorph_testkit::samples_with_suffix(".stp") {
+        let doc = Document::parse(&std::fs::read(cadmorph_testkit::sample(&name)).unwrap()).unwrap();
+        let faces = doc.faces().unwrap();
+        let batch = doc.faces_nurbs(&faces);
+        assert_eq!(batch.len(), faces.len(), "{name}");
+        for (f, w) in faces.iter().zip(batch) {
+            assert_eq!(w.ok(), doc.face_nurbs(f).ok(), "{name}: face {:?}", f.id);
+        }
+        parallel += usize::from(faces.len() >= 16);
+    }
+    assert!(parallel >= 3, "no sample has enough faces to be converted in parallel");
+}

@@ -13,6 +13,11 @@ use crate::error::{Error, Result};
 use crate::read::param::Body;
 use crate::EntityId;
 
+/// Models of at least this many faces have them converted in parallel by
+/// [`Document::faces_nurbs`] (a face takes some 10 µs; a thread pool's wake-up is
+/// worth it from a few dozen).
+pub(crate) const PARALLEL_FACES: usize = 16;
+
 /// An edge's curve, range `[t0, t1]` along it, and its start and end points.
 pub(crate) type EdgeGeometry = (super::geometry::CurveGeom, f64, f64, Point3<f64>, Point3<f64>);
 
@@ -443,6 +448,18 @@ impl Document {
             }
         }
         Ok(out)
+    }
+
+    /// [`face_nurbs`](Self::face_nurbs) of each of `faces`, in order. From 16 faces on
+    /// they are converted on rayon's threads (each face's conversion only reads the
+    /// document); this is how a model is loaded.
+    pub fn faces_nurbs(&self, faces: &[Face]) -> Vec<Result<WorldSurface>> {
+        if faces.len() >= PARALLEL_FACES {
+            use rayon::prelude::*;
+            faces.par_iter().with_min_len(4).map(|f| self.face_nurbs(f)).collect()
+        } else {
+            faces.iter().map(|f| self.face_nurbs(f)).collect()
+        }
     }
 
     /// The face's surface as a world-coordinate NURBS in model units: B-spline surfaces
