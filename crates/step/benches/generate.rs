@@ -1,5 +1,6 @@
 //! Reproducible large STEP files for the benchmarks (shared by `benches/parse.rs` and
-//! `examples/step_bench.rs`, which writes them for the side-by-side runs).
+//! `examples/step_bench.rs`, which writes them for the side-by-side runs; `tests/roundtrip.rs`
+//! reads `faces300` in parallel).
 
 use cadmorph_nurbs::math::Point3;
 use cadmorph_nurbs::{KnotVector, NurbsSurface};

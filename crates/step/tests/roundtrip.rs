@@ -2,6 +2,9 @@
 
 use std::path::PathBuf;
 
+#[path = "../benches/generate.rs"]
+mod generate;
+
 use cadmorph_step::Document;
 
 fn step_files() -> Vec<PathBuf> {
@@ -60,20 +63,40 @@ fn header_and_counts() {
     assert!(counts.keys().any(|k| k.starts_with("(BOUNDED_SURFACE B_SPLINE_SURFACE") || k.starts_with("(")));
 }
 
-/// `faces_nurbs` (parallel from 16 faces) gives each face exactly what `face_nurbs` gives
-/// it, in order, on every sample (mapped_item.stp has 35 faces, the assemblies 30).
+/// `faces_nurbs` (parallel from 64 faces) gives each face exactly what `face_nurbs` gives
+/// it, in order: on every sample (up to 42 faces, one thread) and on the generated
+/// 300-face file of the benches (several threads).
 #[test]
 fn faces_nurbs_is_face_nurbs_of_each_face() {
-    let mut parallel = 0;
-    for name in cadmorph_testkit::samples_with_suffix(".stp") {
-        let doc = Document::parse(&std::fs::read(cadmorph_testkit::sample(&name)).unwrap()).unwrap();
+    let mut files: Vec<(String, Vec<u8>)> = cadmorph_testkit::samples_with_suffix(".stp")
+        .into_iter()
+        .map(|n| {
+            let bytes = std::fs::read(cadmorph_testkit::sample(&n)).unwrap();
+            (n, bytes)
+        })
+        .collect();
+    files.push(("faces300 (generated)".into(), generate::faces300()));
+    for (name, bytes) in files {
+        let doc = Document::parse(&bytes).unwrap();
         let faces = doc.faces().unwrap();
         let batch = doc.faces_nurbs(&faces);
         assert_eq!(batch.len(), faces.len(), "{name}");
         for (f, w) in faces.iter().zip(batch) {
             assert_eq!(w.ok(), doc.face_nurbs(f).ok(), "{name}: face {:?}", f.id);
         }
-        parallel += usize::from(faces.len() >= 16);
     }
-    assert!(parallel >= 3, "no sample has enough faces to be converted in parallel");
+}
+
+/// The generated files of the benches (8.7 and 2.8 MB: read in parallel pieces) are
+/// written back byte for byte, with their faces and poles.
+#[test]
+fn generated_large_files_round_trip() {
+    for (bytes, faces, poles) in [(generate::hull3(), 3, 90_000), (generate::faces300(), 300, 300 * 64)] {
+        let doc = Document::parse(&bytes).unwrap();
+        assert_eq!(doc.write(), bytes);
+        let f = doc.faces().unwrap();
+        assert_eq!(f.len(), faces);
+        let n: usize = doc.faces_nurbs(&f).into_iter().map(|w| w.unwrap().surface.control_points().len()).sum();
+        assert_eq!(n, poles);
+    }
 }

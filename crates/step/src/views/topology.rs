@@ -14,9 +14,11 @@ use crate::read::param::Body;
 use crate::EntityId;
 
 /// Models of at least this many faces have them converted in parallel by
-/// [`Document::faces_nurbs`] (a face takes some 10 µs; a thread pool's wake-up is
-/// worth it from a few dozen).
-pub(crate) const PARALLEL_FACES: usize = 16;
+/// [`Document::faces_nurbs`]. A face takes some 10 µs; on the 35 faces of
+/// `samples/mapped_item.stp` two threads gave a better best time but a worse median
+/// (waking and then spinning workers cost as much as they save), on 300 faces they halve
+/// the time.
+pub(crate) const PARALLEL_FACES: usize = 64;
 
 /// An edge's curve, range `[t0, t1]` along it, and its start and end points.
 pub(crate) type EdgeGeometry = (super::geometry::CurveGeom, f64, f64, Point3<f64>, Point3<f64>);
@@ -450,7 +452,7 @@ impl Document {
         Ok(out)
     }
 
-    /// [`face_nurbs`](Self::face_nurbs) of each of `faces`, in order. From 16 faces on
+    /// [`face_nurbs`](Self::face_nurbs) of each of `faces`, in order. From 64 faces on
     /// they are converted on rayon's threads (each face's conversion only reads the
     /// document); this is how a model is loaded.
     pub fn faces_nurbs(&self, faces: &[Face]) -> Vec<Result<WorldSurface>> {
