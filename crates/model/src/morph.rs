@@ -459,9 +459,19 @@ impl<D: CadDocument> Model<D> {
         let mut n = 0;
         let mut traced: HashSet<EntityRef> = HashSet::new();
         let step = self.format() == cadmorph_brep::Format::Step;
+        // Curves shared with a face the morph bends (not kept in its plane): traced on
+        // that face, also where a plane kept in its plane comes first. Moving a curve's
+        // control points is not the morph of the curve (a line stays straight where the
+        // morph bends it), and the bent face's boundary is what the edge must follow; the
+        // plane takes the traced curve, which stays in it as that boundary does.
+        let on_bent_face: HashSet<EntityRef> =
+            self.bounds.iter().filter(|b| !in_plane[b.face]).filter_map(|b| b.target).collect();
         for k in 0..self.bounds.len() {
             let b = &self.bounds[k];
             let Some(target) = b.target else { continue };
+            if in_plane[b.face] && on_bent_face.contains(&target) {
+                continue;
+            }
             // IGES trimming curves are traced on the exact face instead: OCCT's IGES reader
             // re-parameterizes each against its parameter-space curve, and fails on the
             // exact image of a conic arc (edge tolerance 0.14 mm on mixed_solid.igs).
@@ -481,11 +491,7 @@ impl<D: CadDocument> Model<D> {
             };
             // A plane kept in its plane was re-bounded, not moved: its curves are the
             // morph's image of them, which stays in the plane.
-            let own = in_plane[face].then(|| {
-                let mut c = b.curve.clone();
-                d.deform(c.control_points_mut());
-                c
-            });
+            let own = in_plane[face].then(|| morphed_curve(&b.curve, d, tol));
             let Some(c) =
                 composed.or(own).or_else(|| follow_face(&b.curve, &unmoved[face], &self.faces[face].surface, d, tol))
             else {
@@ -511,6 +517,28 @@ impl<D: CadDocument> Model<D> {
     }
 }
 
+/// The morph's image of `c`: a cubic fit of `d` applied to the curve's points within
+/// `tol`, broken where the curve's own knots are full (its image bends there), or, when
+/// the fit runs out of poles, `c` with its control points moved (a line stays straight
+/// that way, where the morph bends it).
+fn morphed_curve(c: &cadmorph_nurbs::NurbsCurve, d: &dyn Deformation, tol: f64) -> cadmorph_nurbs::NurbsCurve {
+    use cadmorph_nurbs::Curve;
+    let dom = c.domain();
+    let (t0, t1) = (*dom.start(), *dom.end());
+    let (values, mults) = c.knots().distinct();
+    let breaks: Vec<f64> =
+        values.iter().zip(&mults).filter(|(k, m)| **m >= c.degree() && **k > t0 && **k < t1).map(|(k, _)| *k).collect();
+    let image = |t: f64| d.deform_point(&c.eval(t));
+    match cadmorph_nurbs::fit_curve(image, (t0, t1), &breaks, 3, tol, 2048 + 64 * breaks.len()) {
+        Ok((f, _)) => f,
+        Err(_) => {
+            let mut moved = c.clone();
+            d.deform(moved.control_points_mut());
+            moved
+        }
+    }
+}
+
 /// A plane face that the morph maps into its own plane (a transverse plane under a law
 /// that keeps x, a symmetry plane under a symmetric morph): when every moved control point
 /// of its B-spline form `plane` (`moved`) and of its bounding curves stays in the plane
@@ -518,7 +546,9 @@ impl<D: CadDocument> Model<D> {
 /// curves. Moving the form's corners would give the same plane in other parameters whose
 /// extent may no longer cover the moved boundary; instead the form is re-bounded: a
 /// bilinear patch of the plane's own parameterisation over the box of the moved curves'
-/// control points (which hold the curves, Piegl & Tiller property P4.9). `None` when the
+/// control points (which hold the curves, Piegl & Tiller property P4.9) and of the
+/// morph's image of the curves (what a curve traced on a bent neighbour follows), 1 %
+/// wider on each side. `None` when the
 /// morph takes the face out of its plane (or the form is not an affine plane, or it has
 /// no curves).
 fn in_plane<'a>(
@@ -571,10 +601,26 @@ fn in_plane<'a>(
             lo = (lo.0.min(s), lo.1.min(t));
             hi = (hi.0.max(s), hi.1.max(t));
         }
+        // A curve shared with a face the morph bends is traced on that face (see
+        // `write_curves`): it follows the morph of the curve, which may bulge out of the
+        // hull of the moved control points (a line's chord). The box holds the morph's
+        // image of the curve as well.
+        let dom = cadmorph_nurbs::Curve::domain(&curve.curve);
+        for i in 0..=64 {
+            let u = dom.start() + (dom.end() - dom.start()) * i as f64 / 64.0;
+            let (s, t) = st(&d.deform_point(&cadmorph_nurbs::Curve::eval(&curve.curve, u)));
+            lo = (lo.0.min(s), lo.1.min(t));
+            hi = (hi.0.max(s), hi.1.max(t));
+        }
     }
     if !(lo.0 < hi.0 && lo.1 < hi.1) {
         return None;
     }
+    // A margin of 1 % of the extent for what lies between those points (and a traced
+    // curve's own tolerance): the face is trimmed by its curves, so a larger plane patch
+    // changes nothing else.
+    let (ms, mt) = (0.01 * (hi.0 - lo.0), 0.01 * (hi.1 - lo.1));
+    let (lo, hi) = ((lo.0 - ms, lo.1 - mt), (hi.0 + ms, hi.1 + mt));
     let at = |s: f64, t: f64| o + eu * s + ev * t;
     // In the form's parameter ranges, so the face keeps its parameter domain; control
     // points u-major like every surface here (P00, P01, P10, P11).

@@ -203,6 +203,44 @@ fn refined_3x3x3_morph_of_the_solid_converges_within_the_default_budget() {
     assert!(c["edge_to_face_max"].as_f64().unwrap() <= 1e-5 * size, "{}", c["edge_to_face_max"]);
 }
 
+/// The 3×3×3 box with its centre node moved in x and z only: every plane y = const stays
+/// in its plane (the solid's two faces at y = ±20 are re-bounded, not bent) while the
+/// faces meeting them bend. Their common edges are lines, which stay straight when their
+/// control points move: written so, the plane's edges stood 0.016–0.072 mm off the bent
+/// neighbours (the after-check failed on every file; on an OCCT plate with holes 0.036 mm).
+/// They are now traced on the bent face (STEP) or fitted to the morph's image (IGES's own
+/// curves); each file converges, passes the seam check, and OCCT reads it valid with its
+/// topology and its edge curves on their faces within the tolerance. At 1e-4 of the size
+/// and 0.1° (four rounds; the old gaps are twice to eight times that tolerance).
+#[test]
+#[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
+fn planes_kept_in_their_plane_stay_joined_to_the_faces_that_bend() {
+    let s = Scratch::new("in_plane");
+    for name in ["mixed_solid.stp", "mixed_solid.igs", "mixed_solid_brep.igs"] {
+        let input = edge_check(&sample(name));
+        let mut m = open(name);
+        let size = m.size();
+        let mut f =
+            Ffd::try_new([3, 3, 3], Point3::new(-35.0, -25.0, -10.0), Vector3::new(70.0, 50.0, 40.0), Vector3::zeros())
+                .unwrap();
+        f.mu_mut().set(1, 1, 1, [0.0322, 0.0, 0.0564]);
+        let tol = 1e-4 * size;
+        let out = m
+            .morph(&f, &MorphOptions { refine: Some(SeamRefineOptions::new(tol, 0.1)), ..Default::default() })
+            .unwrap();
+        let r = out.refinement.as_ref().unwrap();
+        assert!(r.converged, "{name}: {r:?}");
+        let check = cadmorph_seam::SeamCheck::new(&out.seams_before, &out.seams_after, tol, 0.1);
+        assert_eq!(check.failed, 0, "{name}\n{}", out.seams_after.table());
+        let path = s.0.join(name);
+        m.save(&path).unwrap();
+        let c = edge_check(&path);
+        assert_eq!(c["valid"], true, "{name}");
+        assert_eq!(c["topology"], input["topology"], "{name}");
+        assert!(c["edge_to_face_max"].as_f64().unwrap() <= tol, "{name}: {}", c["edge_to_face_max"]);
+    }
+}
+
 /// The trimmed IGES shaft (surfaces of revolution placed by 124 transforms, metres) under
 /// the FFD for real files (3×3×3, the centre node moved by 5 % of the diagonal)
 /// with refinement at 1e-5 of the diagonal: the refinement converges and the written file
