@@ -489,9 +489,21 @@ impl<D: CadDocument> Model<D> {
                 }
                 None => None,
             };
-            // A plane kept in its plane was re-bounded, not moved: its curves are the
-            // morph's image of them, which stays in the plane.
-            let own = in_plane[face].then(|| morphed_curve(&b.curve, d, tol));
+            // A plane kept in its plane was re-bounded, not moved. Its curve follows the
+            // face the morph bends on the other side of the edge (an IGES face's own
+            // trimming curve), as that face's boundary moves, which stays in the plane;
+            // with no such face, the morph's image of the curve.
+            let own = in_plane[face].then(|| {
+                let size = self.size();
+                let bent = (0..self.faces.len())
+                    .filter(|&j| j != face && !in_plane[j])
+                    .find(|&j| lies_on(&b.curve, &unmoved[j], 1e-6 * size));
+                match bent {
+                    Some(j) => follow_face(&b.curve, &unmoved[j], &self.faces[j].surface, d, tol)
+                        .unwrap_or_else(|| morphed_curve(&b.curve, d, tol)),
+                    None => morphed_curve(&b.curve, d, tol),
+                }
+            });
             let Some(c) =
                 composed.or(own).or_else(|| follow_face(&b.curve, &unmoved[face], &self.faces[face].surface, d, tol))
             else {
@@ -517,10 +529,31 @@ impl<D: CadDocument> Model<D> {
     }
 }
 
-/// The morph's image of `c`: a cubic fit of `d` applied to the curve's points within
-/// `tol`, broken where the curve's own knots are full (its image bends there), or, when
-/// the fit runs out of poles, `c` with its control points moved (a line stays straight
-/// that way, where the morph bends it).
+/// Whether nine evenly spaced points of `c` lie within `eps` of surface `s` (checked
+/// against its control points' box first: the surface lies in their hull, P&T P4.7).
+fn lies_on(c: &cadmorph_nurbs::NurbsCurve, s: &NurbsSurface, eps: f64) -> bool {
+    use cadmorph_nurbs::Curve;
+    let Some(b) = cadmorph_nurbs::Aabb::from_points(s.control_points()) else { return false };
+    let dom = c.domain();
+    let pts: Vec<_> = (0..=8).map(|k| c.eval(dom.start() + (dom.end() - dom.start()) * k as f64 / 8.0)).collect();
+    let inside =
+        |p: &cadmorph_nurbs::math::Point3<f64>| (0..3).all(|i| p[i] >= b.min[i] - eps && p[i] <= b.max[i] + eps);
+    if !pts.iter().all(inside) {
+        return false;
+    }
+    let mut near = None;
+    pts.iter().all(|p| {
+        let pr = s.project_near(p, near, 1e-3 * eps, eps);
+        near = Some((pr.u, pr.v));
+        pr.distance_sq <= eps * eps
+    })
+}
+
+/// The morph's image of `c` (for a curve of a plane kept in its plane that no bent face
+/// shares): a cubic fit of `d` applied to the curve's points within `tol`, broken where
+/// the curve's own knots are full (its image bends there), or, when the fit runs out of
+/// poles, `c` with its control points moved (a line stays straight that way, where the
+/// morph bends it).
 fn morphed_curve(c: &cadmorph_nurbs::NurbsCurve, d: &dyn Deformation, tol: f64) -> cadmorph_nurbs::NurbsCurve {
     use cadmorph_nurbs::Curve;
     let dom = c.domain();
