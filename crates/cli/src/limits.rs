@@ -54,7 +54,7 @@ pub fn check_gap_tolerance(flag: &str, tol: f64, model_size: f64, unit: &str) ->
 /// An angle tolerance in degrees: positive and below 90°.
 pub fn check_angle_tolerance(flag: &str, deg: f64) -> Result<()> {
     if !(deg > 1e-12 && deg < 90.0) {
-        bail!("{flag} {deg} must lie between 1e-12 and 90 degrees");
+        bail!("{flag} {deg} must be above 1e-12 and below 90 degrees");
     }
     Ok(())
 }

@@ -193,6 +193,34 @@ fn cut_points(src: &[u8], from: usize, n: usize) -> Vec<usize> {
 }
 
 impl Reader<'_> {
+    /// An instance's body after its `=`, whose first token `body` has been read: a
+    /// record `NAME(...)` or a complex instance `( A(...) B(...) )`, references collected.
+    /// Returns whether it is complex and the length of its (first) entity name.
+    fn body(&mut self, body: Token, refs: &mut Vec<(u64, usize)>) -> Result<(bool, usize)> {
+        match body.kind {
+            Kind::Keyword => {
+                self.record(refs)?;
+                Ok((false, body.end - body.start))
+            }
+            Kind::Open => {
+                let mut first = None;
+                loop {
+                    let leaf = self.next()?;
+                    match leaf.kind {
+                        Kind::Keyword => {
+                            first.get_or_insert(leaf.end - leaf.start);
+                            self.record(refs)?;
+                        }
+                        Kind::Close if first.is_some() => break,
+                        _ => return Err(self.unexpected(leaf, "a leaf record of a complex instance")),
+                    }
+                }
+                Ok((true, first.unwrap_or(0)))
+            }
+            _ => Err(self.unexpected(body, "an entity name or '('")),
+        }
+    }
+
     /// Reads instances `#n = ...;` up to `ENDSEC`, or with `stop` up to the first token
     /// at or after `stop` (the reader then stands there, after blanks and comments).
     fn instances(&mut self, g: &mut Gathered, stop: Option<usize>) -> Result<DataEnd> {
@@ -215,28 +243,7 @@ impl Reader<'_> {
                     self.current = Some(EntityId(id));
                     self.expect(Kind::Equals, "'=' after the instance id")?;
                     let body = self.next()?;
-                    let (complex, name_len) = match body.kind {
-                        Kind::Keyword => {
-                            self.record(&mut g.refs)?;
-                            (false, body.end - body.start)
-                        }
-                        Kind::Open => {
-                            let mut first = None;
-                            loop {
-                                let leaf = self.next()?;
-                                match leaf.kind {
-                                    Kind::Keyword => {
-                                        first.get_or_insert(leaf.end - leaf.start);
-                                        self.record(&mut g.refs)?;
-                                    }
-                                    Kind::Close if first.is_some() => break,
-                                    _ => return Err(self.unexpected(leaf, "a leaf record of a complex instance")),
-                                }
-                            }
-                            (true, first.unwrap_or(0))
-                        }
-                        _ => return Err(self.unexpected(body, "an entity name or '('")),
-                    };
+                    let (complex, name_len) = self.body(body, &mut g.refs)?;
                     let semi = self.expect(Kind::Semicolon, "';' after an instance")?;
                     g.ref_owner.resize(g.refs.len(), g.instances.len() as u32);
                     g.max_id = g.max_id.max(id);
@@ -480,28 +487,7 @@ pub(crate) fn scan_instance(text: &[u8]) -> Result<(Instance, Vec<u64>)> {
     r.expect(Kind::Equals, "'='")?;
     let mut refs = Vec::new();
     let body = r.next()?;
-    let (complex, name_len) = match body.kind {
-        Kind::Keyword => {
-            r.record(&mut refs)?;
-            (false, body.end - body.start)
-        }
-        Kind::Open => {
-            let mut first = None;
-            loop {
-                let leaf = r.next()?;
-                match leaf.kind {
-                    Kind::Keyword => {
-                        first.get_or_insert(leaf.end - leaf.start);
-                        r.record(&mut refs)?;
-                    }
-                    Kind::Close if first.is_some() => break,
-                    _ => return Err(r.unexpected(leaf, "a leaf record")),
-                }
-            }
-            (true, first.unwrap_or(0))
-        }
-        _ => return Err(r.unexpected(body, "an entity name or '('")),
-    };
+    let (complex, name_len) = r.body(body, &mut refs)?;
     let semi = r.expect(Kind::Semicolon, "';'")?;
     let end = r.next()?;
     if end.kind != Kind::End {
