@@ -558,9 +558,7 @@ fn morphed_curve(c: &cadmorph_nurbs::NurbsCurve, d: &dyn Deformation, tol: f64) 
     use cadmorph_nurbs::Curve;
     let dom = c.domain();
     let (t0, t1) = (*dom.start(), *dom.end());
-    let (values, mults) = c.knots().distinct();
-    let breaks: Vec<f64> =
-        values.iter().zip(&mults).filter(|(k, m)| **m >= c.degree() && **k > t0 && **k < t1).map(|(k, _)| *k).collect();
+    let breaks = crate::trace::full_knots(c);
     let image = |t: f64| d.deform_point(&c.eval(t));
     match cadmorph_nurbs::fit_curve(image, (t0, t1), &breaks, 3, tol, 2048 + 64 * breaks.len()) {
         Ok((f, _)) => f,

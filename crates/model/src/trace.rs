@@ -173,9 +173,7 @@ pub(crate) fn follow_face(
     }
     // The curve itself turns its speed where its own knots are full (a rational circle's
     // quarter points): the image bends there too.
-    let (values, mults) = c.knots().distinct();
-    breaks
-        .extend(values.iter().zip(&mults).filter(|(k, m)| **m >= c.degree() && **k > t0 && **k < t1).map(|(k, _)| *k));
+    breaks.extend(full_knots(c));
     // A cubic needs about (r / tol)^(1/4) spans per turn of a curve of radius r: a full
     // circle at 1e-7 of its size takes some 300 poles.
     let max_poles = 2048 + 64 * breaks.len();
@@ -195,6 +193,17 @@ pub(crate) fn follow_face(
         }
     }
     Some(moved)
+}
+
+/// The interior knots of `c` of full multiplicity (at least its degree): where the curve
+/// may turn its speed or direction (a rational circle's quarter points), so where a fit of
+/// its image is broken.
+pub(crate) fn full_knots(c: &NurbsCurve) -> Vec<f64> {
+    use cadmorph_nurbs::Curve;
+    let dom = c.domain();
+    let (t0, t1) = (*dom.start(), *dom.end());
+    let (values, mults) = c.knots().distinct();
+    values.iter().zip(&mults).filter(|(k, m)| **m >= c.degree() && **k > t0 && **k < t1).map(|(k, _)| *k).collect()
 }
 
 /// When the face parameters `uvs` of samples along `c` (evenly spaced in its parameter)
