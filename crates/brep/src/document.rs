@@ -4,7 +4,7 @@ use std::collections::BTreeMap;
 
 use cadmorph_nurbs::{NurbsCurve, NurbsSurface};
 
-use crate::{BoundCurve, Face, FaceSet, Format, FreeCurve, Result, Units};
+use crate::{BoundCurve, EntityRef, Face, FaceSet, Format, FreeCurve, Result, Units};
 
 /// A CAD document seen through what IGES and STEP have in common: faces as exact NURBS
 /// patches, the curves that bound them, the other model-space curves, and the edits a
@@ -114,6 +114,21 @@ pub trait CadDocument {
     /// Non-finite values.
     fn set_free_curve(&mut self, f: &FreeCurve, c: &NurbsCurve) -> Result<bool>;
 
+    /// Gives each placement of a part placed more than once (an assembly's repeated
+    /// component, a mapped representation) that holds one of the placed faces `moved`
+    /// its own copy of the part, so that a morph can move each placement its own way.
+    /// Afterwards [`faces`](Self::faces) lists the same faces in the same order at the
+    /// same places; those of the copies carry new entities. Placements holding no moved
+    /// face keep sharing. Returns the number of copies made; the default, for formats
+    /// that cannot copy, makes none.
+    ///
+    /// # Errors
+    ///
+    /// Malformed placements or product structure.
+    fn unshare(&mut self, _moved: &[EntityRef]) -> Result<usize> {
+        Ok(0)
+    }
+
     /// The document as file bytes.
     fn to_bytes(&self) -> Vec<u8>;
 
@@ -170,6 +185,9 @@ impl<D: CadDocument + ?Sized> CadDocument for Box<D> {
     }
     fn set_free_curve(&mut self, f: &FreeCurve, c: &NurbsCurve) -> Result<bool> {
         (**self).set_free_curve(f, c)
+    }
+    fn unshare(&mut self, moved: &[EntityRef]) -> Result<usize> {
+        (**self).unshare(moved)
     }
     fn to_bytes(&self) -> Vec<u8> {
         (**self).to_bytes()

@@ -148,12 +148,31 @@ impl<D: CadDocument> Model<D> {
     ///
     /// The document's errors (units, topology).
     pub fn new(doc: D) -> Result<Self> {
-        let set = doc.faces()?;
         let units = doc.units()?;
-        let bounds = doc.bound_curves(&set.faces)?;
-        let free = doc.free_curves()?;
+        let mut model = Self {
+            doc,
+            faces: Vec::new(),
+            skipped: Vec::new(),
+            units,
+            bounds: Vec::new(),
+            free: Vec::new(),
+            iso: Vec::new(),
+            trims: Vec::new(),
+        };
+        model.reload()?;
+        Ok(model)
+    }
+
+    /// Reads the faces, their curves and shared edges from the document again (after
+    /// an edit that changed entities, such as [`CadDocument::unshare`]).
+    pub(crate) fn reload(&mut self) -> Result<()> {
+        let set = self.doc.faces()?;
+        let bounds = self.doc.bound_curves(&set.faces)?;
+        let free = self.doc.free_curves()?;
         let (iso, trims) = shared_edges(&set.faces, &bounds);
-        Ok(Self { doc, faces: set.faces, skipped: set.skipped, units, bounds, free, iso, trims })
+        (self.faces, self.skipped, self.bounds, self.free, self.iso, self.trims) =
+            (set.faces, set.skipped, bounds, free, iso, trims);
+        Ok(())
     }
 
     /// The document (as edited so far).

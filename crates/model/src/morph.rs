@@ -3,7 +3,7 @@
 
 use std::collections::HashSet;
 
-use cadmorph_brep::{CadDocument, EntityRef, SurfaceKind};
+use cadmorph_brep::{CadDocument, EntityRef, Face, SurfaceKind};
 use cadmorph_morph::Deformation;
 use cadmorph_nurbs::{NurbsSurface, Surface};
 use cadmorph_seam::{
@@ -185,12 +185,18 @@ impl<D: CadDocument> Model<D> {
         mut exact: Option<(&ExactFfd, &[bool], &mut ExactReport)>,
     ) -> Result<MorphOutcome> {
         // One surface placed twice (a part repeated in an assembly) would be moved two
-        // ways; faces sharing a surface in one placement move it once.
-        let mut users = std::collections::HashMap::new();
-        for f in &self.faces {
-            let first = *users.entry(f.surface_entity.id).or_insert((f.entity, f.placement));
-            if first.1 != f.placement {
-                return Err(Error::SharedSurface { surface: f.surface_entity, first: first.0, second: f.entity });
+        // ways: the placements that move get their own copies of the part first (the
+        // document keeps the faces' order and places). Faces sharing a surface in one
+        // placement move it once; placements that move nothing may keep sharing.
+        if shared_placed_surface(&self.faces, |_| true).is_some() {
+            let moved: Vec<EntityRef> =
+                self.faces.iter().filter(|f| moved_by(d, f.surface.control_points())).map(|f| f.entity).collect();
+            if !moved.is_empty() && self.doc.unshare(&moved)? > 0 {
+                self.reload()?;
+            }
+            let moved: Vec<bool> = self.faces.iter().map(|f| moved_by(d, f.surface.control_points())).collect();
+            if let Some((surface, first, second)) = shared_placed_surface(&self.faces, |i| moved[i]) {
+                return Err(Error::SharedSurface { surface, first, second });
             }
         }
         let edges = self.iso.clone();
@@ -664,4 +670,20 @@ fn in_plane<'a>(
         None,
     );
     Some(out)
+}
+
+/// A surface that faces at two different placements use, with two such faces, when any
+/// of its faces satisfies `moved` (by face index).
+fn shared_placed_surface(faces: &[Face], moved: impl Fn(usize) -> bool) -> Option<(EntityRef, EntityRef, EntityRef)> {
+    let mut users: std::collections::HashMap<u64, Vec<usize>> = std::collections::HashMap::new();
+    for (i, f) in faces.iter().enumerate() {
+        users.entry(f.surface_entity.id).or_default().push(i);
+    }
+    let mut found: Vec<(usize, usize)> = users
+        .values()
+        .filter(|us| us.iter().any(|&i| moved(i)))
+        .filter_map(|us| us.iter().find(|&&i| faces[i].placement != faces[us[0]].placement).map(|&i| (us[0], i)))
+        .collect();
+    found.sort_unstable();
+    found.first().map(|&(a, b)| (faces[b].surface_entity, faces[a].entity, faces[b].entity))
 }

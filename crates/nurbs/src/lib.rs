@@ -61,6 +61,31 @@ pub use tessellate::{Aabb, Mesh};
 /// The vocabulary types of cadmorph (nalgebra).
 pub mod math {
     pub use nalgebra::{Matrix3, Matrix4, Point3, Rotation3, Unit, Vector3, Vector4};
+
+    /// The inverse of the affine map `m` (last row `0 0 0 1`), with the last row exactly
+    /// `0 0 0 1` again (a general 4×4 inverse may leave it at `1 + ε`, which
+    /// [`NurbsSurface::transform_by`](crate::NurbsSurface::transform_by) refuses):
+    /// `[A t; 0 1]⁻¹ = [A⁻¹ −A⁻¹t; 0 1]`. `None` when `A` is singular or `m` is not affine.
+    ///
+    /// ```
+    /// use cadmorph_nurbs::math::{affine_inverse, Matrix4, Vector3};
+    /// let m = Matrix4::new_translation(&Vector3::new(1.0, 2.0, 3.0)) * Matrix4::new_scaling(3.0);
+    /// let i = affine_inverse(&m).unwrap();
+    /// assert_eq!(i.row(3), Matrix4::<f64>::identity().row(3));
+    /// assert!((i * m - Matrix4::identity()).norm() < 1e-15);
+    /// ```
+    pub fn affine_inverse(m: &Matrix4<f64>) -> Option<Matrix4<f64>> {
+        if m.row(3) != Matrix4::<f64>::identity().row(3) {
+            return None;
+        }
+        let a: Matrix3<f64> = m.fixed_view::<3, 3>(0, 0).into_owned();
+        let ai = a.try_inverse()?;
+        let t = -(ai * m.fixed_view::<3, 1>(0, 3));
+        let mut out = Matrix4::identity();
+        out.fixed_view_mut::<3, 3>(0, 0).copy_from(&ai);
+        out.fixed_view_mut::<3, 1>(0, 3).copy_from(&t);
+        Some(out)
+    }
 }
 
 /// The highest degree any curve or surface may have (OCCT's

@@ -170,6 +170,14 @@ impl CadDocument for Document {
         Err(err(crate::Error::NoSuchInstance(id_of(f.entity)?)))
     }
 
+    fn unshare(&mut self, moved: &[EntityRef]) -> cadmorph_brep::Result<usize> {
+        let mut set = std::collections::HashSet::with_capacity(moved.len());
+        for &e in moved {
+            set.insert((id_of(e)?, e.occurrence as usize));
+        }
+        Document::unshare(self, &set).map_err(err)
+    }
+
     fn to_bytes(&self) -> Vec<u8> {
         self.write()
     }

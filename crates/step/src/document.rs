@@ -93,6 +93,11 @@ pub struct Document {
     pub(crate) max_id: u64,
     /// The model units, once computed (cleared by edits).
     pub(crate) units_cache: std::sync::OnceLock<crate::views::Units>,
+    /// Added instances written even though nothing references them: roots of the
+    /// product structure an edit added (see `unshare.rs`).
+    pub(crate) pinned: std::collections::BTreeSet<usize>,
+    /// Added instances that are unedited copies of the file's (see `unshare.rs`).
+    pub(crate) pristine: std::collections::BTreeSet<usize>,
 }
 
 /// A read-only handle on one instance.

@@ -3,7 +3,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use cadmorph_nurbs::math::{Matrix4, Point3};
+use cadmorph_nurbs::math::{affine_inverse, Matrix4, Point3};
 use cadmorph_nurbs::{Curve, NurbsCurve, NurbsSurface};
 
 use crate::document::Document;
@@ -168,9 +168,7 @@ impl Document {
     /// non-finite values.
     pub fn set_face_surface(&mut self, face: &Face, s: &NurbsSurface) -> Result<Vec<EntityId>> {
         let k = self.index.get(face.surface.0).ok_or(Error::NoSuchInstance(face.surface))?;
-        let inverse = face
-            .transform
-            .try_inverse()
+        let inverse = affine_inverse(&face.transform)
             .ok_or_else(|| Error::Edit { at: self.position_of(k, 0), reason: "singular face placement".into() })?;
         let local = s.transformed(&inverse);
         if local.control_points().iter().any(|p| !p.coords.iter().all(|c| c.is_finite())) {
@@ -231,7 +229,7 @@ impl Document {
         for (e, c) in edges {
             let k = self.index.get(e.id.0).ok_or(Error::NoSuchInstance(e.id))?;
             let edit = |reason: &str| Error::Edit { at: self.position_of(k, 0), reason: reason.into() };
-            let inverse = e.transform.try_inverse().ok_or_else(|| edit("singular edge placement"))?;
+            let inverse = affine_inverse(&e.transform).ok_or_else(|| edit("singular edge placement"))?;
             let local = c.transformed(&inverse);
             if local.control_points().iter().any(|p| !p.coords.iter().all(|x| x.is_finite())) {
                 return Err(edit("non-finite edge curve"));
@@ -299,8 +297,7 @@ impl Document {
         s: &NurbsSurface,
     ) -> Result<bool> {
         let k = self.index.get(surface.0).ok_or(Error::NoSuchInstance(surface))?;
-        let inverse = transform
-            .try_inverse()
+        let inverse = affine_inverse(transform)
             .ok_or_else(|| Error::Edit { at: self.position_of(k, 0), reason: "singular face placement".into() })?;
         let local = if *transform == Matrix4::identity() { s.clone() } else { s.transformed(&inverse) };
         if local.control_points().iter().any(|p| !p.coords.iter().all(|c| c.is_finite())) {
@@ -350,7 +347,7 @@ impl Document {
                 plan.insert(id.0, *p_new);
                 continue;
             }
-            if self.get(*id).is_some_and(|i| i.is_edited()) {
+            if self.rewritten(*id) {
                 // Moved by an earlier write to where it is now, which is not where this
                 // face wants it.
                 return Ok(None);
@@ -433,11 +430,11 @@ impl Document {
         let d = c.domain();
         let (a, b) = (c.eval(*d.start()), c.eval(*d.end()));
         let (at_start, at_end) = if same_sense { (a, b) } else { (b, a) };
-        let inverse = transform.try_inverse().unwrap_or_else(Matrix4::identity);
+        let inverse = affine_inverse(transform).unwrap_or_else(Matrix4::identity);
         for (pid, w) in [(ps, at_start), (pe, at_end)] {
             // A point an earlier write moved stays; so does one that is also a control
             // point of a curve or surface (that geometry owns it and moves it itself).
-            if self.get(pid).is_some_and(|i| i.is_edited())
+            if self.rewritten(pid)
                 || self.referrers(pid).into_iter().any(|k| self.name_of(k) != "VERTEX_POINT")
             {
                 continue;
@@ -448,6 +445,12 @@ impl Document {
             }
         }
         Ok(true)
+    }
+
+    /// Whether an edit rewrote `#id` or added it with content of its own: the copies
+    /// [`unshare`](Self::unshare) makes count as the file's until an edit rewrites them.
+    fn rewritten(&self, id: EntityId) -> bool {
+        self.index.get(id.0).is_some_and(|k| self.texts.contains_key(&k) && !self.pristine.contains(&k))
     }
 
     /// Instances that reference `#target`, by position.

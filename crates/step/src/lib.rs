@@ -44,6 +44,7 @@ mod document;
 mod edit;
 mod error;
 mod read;
+mod unshare;
 mod views;
 mod write;
 

@@ -473,6 +473,8 @@ impl Document {
             insert_at,
             max_id,
             units_cache: std::sync::OnceLock::new(),
+            pinned: std::collections::BTreeSet::new(),
+            pristine: std::collections::BTreeSet::new(),
         })
     }
 }
@@ -480,6 +482,12 @@ impl Document {
 /// Checks the text of one instance `#id = ...;` (for edits and added instances) and
 /// returns its metadata (offsets relative to the text) and the ids it references.
 pub(crate) fn scan_instance(text: &[u8]) -> Result<(Instance, Vec<u64>)> {
+    let (inst, refs) = scan_instance_at(text)?;
+    Ok((inst, refs.into_iter().map(|(id, _)| id).collect()))
+}
+
+/// [`scan_instance`] with each reference's byte offset (of its `#`) in `text`.
+pub(crate) fn scan_instance_at(text: &[u8]) -> Result<(Instance, Vec<(u64, usize)>)> {
     let mut r = Reader { lx: Lexer::new(text, 0), current: None };
     let t = r.expect(Kind::Reference, "an instance id")?;
     let id = reference_id(&text[t.start..t.end])
@@ -495,7 +503,7 @@ pub(crate) fn scan_instance(text: &[u8]) -> Result<(Instance, Vec<u64>)> {
     }
     Ok((
         Instance { id, start: 0, end: semi.end, body: body.start as u32, name_len: name_len as u32, complex },
-        refs.into_iter().map(|(id, _)| id).collect(),
+        refs,
     ))
 }
 

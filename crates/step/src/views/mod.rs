@@ -17,6 +17,7 @@ use crate::error::{Error, Position, Result};
 use crate::read::param::{Body, Param, Record, Value};
 use crate::EntityId;
 
+pub(crate) use topology::{Link, Occurrence};
 pub use units::{LengthUnit, Units};
 
 /// Nesting of geometric references (trimmed curve of a surface curve of ...) beyond which

@@ -31,6 +31,18 @@ pub(crate) struct Occurrence {
     pub rep: EntityId,
     pub transform: Matrix4<f64>,
     pub items: Vec<EntityId>,
+    /// How the walk reached `rep`: the root representation, then each link taken (a
+    /// representation relationship or a `MAPPED_ITEM`) with the representation it led to.
+    pub root: EntityId,
+    pub path: Vec<Link>,
+}
+
+/// One step down the placement tree: the relationship instance or `MAPPED_ITEM` taken
+/// and the representation it leads to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) struct Link {
+    pub via: EntityId,
+    pub rep: EntityId,
 }
 
 /// What [`Ctx::descend`] needs to know of the file's representations.
@@ -38,12 +50,32 @@ struct Tree<'m> {
     /// Model units per unit of each shape representation's context.
     rep_scale: &'m HashMap<u64, f64>,
     /// Children of each representation by (SHAPE_)REPRESENTATION_RELATIONSHIP, with the
-    /// ITEM_DEFINED_TRANSFORMATION if any.
-    children: &'m HashMap<u64, Vec<(u64, Option<EntityId>)>>,
+    /// ITEM_DEFINED_TRANSFORMATION if any and the relationship instance.
+    children: &'m HashMap<u64, Vec<(u64, Option<EntityId>, EntityId)>>,
     /// Most occurrences (item runs) listed, and representations visited, before giving up.
     limit: usize,
     /// Representations visited so far (empty ones too: a map of maps of nothing).
     visits: std::cell::Cell<usize>,
+}
+
+/// Where [`Ctx::descend`] stands: the representations entered (to find cycles) and the
+/// links taken from the root.
+struct Walk {
+    stack: Vec<u64>,
+    root: EntityId,
+    path: Vec<Link>,
+}
+
+impl Walk {
+    fn enter(&mut self, link: Link) {
+        self.stack.push(link.rep.0);
+        self.path.push(link);
+    }
+
+    fn leave(&mut self) {
+        self.stack.pop();
+        self.path.pop();
+    }
 }
 
 fn is_shape_rep(name: &str) -> bool {
@@ -63,7 +95,7 @@ pub(crate) fn placement_matrix(p: &Placement, scale: f64) -> Matrix4<f64> {
 }
 
 fn rigid_inverse(m: &Matrix4<f64>) -> Matrix4<f64> {
-    m.try_inverse().unwrap_or_else(Matrix4::identity)
+    cadmorph_nurbs::math::affine_inverse(m).unwrap_or_else(Matrix4::identity)
 }
 
 impl Ctx<'_> {
@@ -74,7 +106,7 @@ impl Ctx<'_> {
         let mut reps = Vec::new(); // (id, scale)
         let mut rep_scale: HashMap<u64, f64> = HashMap::new();
         let mut context_scale: HashMap<u64, f64> = HashMap::new();
-        let mut children: HashMap<u64, Vec<(u64, Option<EntityId>)>> = HashMap::new();
+        let mut children: HashMap<u64, Vec<(u64, Option<EntityId>, EntityId)>> = HashMap::new();
         let mut is_child: HashMap<u64, bool> = HashMap::new();
         // Representations a REPRESENTATION_MAP maps, and those a product's
         // SHAPE_DEFINITION_REPRESENTATION names.
@@ -132,7 +164,7 @@ impl Ctx<'_> {
                     }
                     None => None,
                 };
-                children.entry(parent.0).or_default().push((child.0, transform));
+                children.entry(parent.0).or_default().push((child.0, transform, id));
                 is_child.insert(child.0, true);
             }
         }
@@ -149,8 +181,8 @@ impl Ctx<'_> {
         let is_root =
             |r: &EntityId| !is_child.contains_key(&r.0) && (!mapped.contains_key(&r.0) || defined.contains_key(&r.0));
         for &root in reps.iter().filter(|r| is_root(r)) {
-            let mut stack = vec![root.0];
-            self.descend(root, Matrix4::identity(), &tree, &mut stack, &mut out)?;
+            let mut walk = Walk { stack: vec![root.0], root, path: Vec::new() };
+            self.descend(root, Matrix4::identity(), &tree, &mut walk, &mut out)?;
         }
         Ok(out)
     }
@@ -175,7 +207,7 @@ impl Ctx<'_> {
         rep: EntityId,
         world: Matrix4<f64>,
         tree: &Tree<'_>,
-        stack: &mut Vec<u64>,
+        walk: &mut Walk,
         out: &mut Vec<Occurrence>,
     ) -> Result<()> {
         let (rep_scale, children) = (tree.rep_scale, tree.children);
@@ -194,17 +226,17 @@ impl Ctx<'_> {
                 run.push(item);
                 continue;
             }
-            self.push_run(rep, world * Matrix4::new_scaling(s), &mut run, tree, out)?;
+            self.push_run(rep, world * Matrix4::new_scaling(s), &mut run, tree, walk, out)?;
             let mi = self.any(item)?;
             mi.arity(3)?;
             let source = mi.reference(1)?;
             let map = self.simple(source, "REPRESENTATION_MAP")?;
             map.arity(2)?;
             let mapped = map.reference(1)?;
-            if stack.contains(&mapped.0) {
+            if walk.stack.contains(&mapped.0) {
                 return Err(Error::ReferenceCycle { at: self.doc.position_of_id(item), target: mapped });
             }
-            if stack.len() > 256 {
+            if walk.stack.len() > 256 {
                 return Err(Error::Limit { at: self.doc.position_of_id(item), what: "mapped items nested too deeply" });
             }
             let Some(&sc) = rep_scale.get(&mapped.0) else { continue };
@@ -213,20 +245,20 @@ impl Ctx<'_> {
             // OCCT's order, not ISO's: see `descend`'s docs.
             let rel = Matrix4::new_scaling(1.0 / s) * rigid_inverse(&from) * to;
             let w = world * Matrix4::new_scaling(s) * rel * Matrix4::new_scaling(1.0 / sc);
-            stack.push(mapped.0);
-            self.descend(mapped, w, tree, stack, out)?;
-            stack.pop();
+            walk.enter(Link { via: item, rep: mapped });
+            self.descend(mapped, w, tree, walk, out)?;
+            walk.leave();
         }
-        self.push_run(rep, world * Matrix4::new_scaling(s), &mut run, tree, out)?;
+        self.push_run(rep, world * Matrix4::new_scaling(s), &mut run, tree, walk, out)?;
         let Some(kids) = children.get(&rep.0) else { return Ok(()) };
-        for &(child, t) in kids {
-            if stack.contains(&child) {
+        for &(child, t, via) in kids {
+            if walk.stack.contains(&child) {
                 return Err(Error::ReferenceCycle {
                     at: self.doc.position_of_id(EntityId(child)),
                     target: EntityId(child),
                 });
             }
-            if stack.len() > 256 {
+            if walk.stack.len() > 256 {
                 return Err(Error::Limit { at: self.doc.position_of_id(rep), what: "assembly nested too deeply" });
             }
             let sc = rep_scale.get(&child).copied().unwrap_or(1.0);
@@ -250,12 +282,12 @@ impl Ctx<'_> {
                 }
             };
             if rep_scale.contains_key(&child) {
-                stack.push(child);
+                walk.enter(Link { via, rep: EntityId(child) });
                 // The child's own scale is applied by `descend`; `rel` works in model
                 // units, so remove it again from the child's point of view.
                 let w = world * Matrix4::new_scaling(s) * rel * Matrix4::new_scaling(1.0 / sc);
-                self.descend(EntityId(child), w, tree, stack, out)?;
-                stack.pop();
+                self.descend(EntityId(child), w, tree, walk, out)?;
+                walk.leave();
             }
         }
         Ok(())
@@ -269,6 +301,7 @@ impl Ctx<'_> {
         transform: Matrix4<f64>,
         run: &mut Vec<EntityId>,
         tree: &Tree<'_>,
+        walk: &Walk,
         out: &mut Vec<Occurrence>,
     ) -> Result<()> {
         if out.len() >= tree.limit {
@@ -278,13 +311,19 @@ impl Ctx<'_> {
             });
         }
         if !run.is_empty() {
-            out.push(Occurrence { rep, transform, items: std::mem::take(run) });
+            out.push(Occurrence {
+                rep,
+                transform,
+                items: std::mem::take(run),
+                root: walk.root,
+                path: walk.path.clone(),
+            });
         }
         Ok(())
     }
 
     /// The faces reachable from one representation item, in file order.
-    fn item_faces(&self, id: EntityId, out: &mut Vec<(EntityId, bool)>, depth: usize) -> Result<()> {
+    pub(crate) fn item_faces(&self, id: EntityId, out: &mut Vec<(EntityId, bool)>, depth: usize) -> Result<()> {
         if depth > 16 {
             return Err(Error::Limit { at: self.doc.position_of_id(id), what: "shells nested too deeply" });
         }

@@ -120,6 +120,7 @@ impl Document {
         old.name_len = inst.name_len;
         old.complex = inst.complex;
         self.texts.insert(k, text);
+        self.pristine.remove(&k);
         self.units_cache = std::sync::OnceLock::new();
         Ok(())
     }

@@ -50,7 +50,9 @@ impl Document {
             }
             now.push(current);
         }
-        let candidate = |k: usize, referenced_before: &[bool]| k >= self.n_original || referenced_before[k];
+        let candidate = |k: usize, referenced_before: &[bool]| {
+            (k >= self.n_original || referenced_before[k]) && !self.pinned.contains(&k)
+        };
         let mut work: Vec<usize> = (0..n).filter(|&k| count[k] == 0 && candidate(k, &referenced_before)).collect();
         while let Some(k) = work.pop() {
             if !out.insert(k) {
