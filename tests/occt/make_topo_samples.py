@@ -13,6 +13,11 @@ Writes, deterministically (fixed header dates and authors):
       NEXT_ASSEMBLY_USAGE_OCCURRENCE with a CONTEXT_DEPENDENT_SHAPE_REPRESENTATION and an
       ITEM_DEFINED_TRANSFORMATION; the same part's faces appear at several places.
       Unit: inch (write.step.unit = INCH), the numbers in the file are inches.
+  assembly_colors.stp
+      assembly_ap214.stp with XCAF colours, as cadquery writes an assembly whose parts have
+      colours: the plate red, the pin blue (STYLED_ITEMs of the parts' solids listed by a
+      MECHANICAL_DESIGN_GEOMETRIC_PRESENTATION_REPRESENTATION), and one face of the plate
+      (the cylinder of its hole) green.
   shaft.igs
       A stepped shaft revolved about an axis that is neither x, y nor z (so every surface
       carries a 124 transformation), with a fillet (torus) and a chamfer (cone), written
@@ -39,11 +44,13 @@ from OCP.STEPControl import STEPControl_AsIs, STEPControl_Controller
 from OCP.TCollection import TCollection_ExtendedString, TCollection_HAsciiString
 from OCP.TDataStd import TDataStd_Name
 from OCP.TDocStd import TDocStd_Document
-from OCP.TopAbs import TopAbs_EDGE
+from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
+from OCP.BRepAdaptor import BRepAdaptor_Surface
+from OCP.Quantity import Quantity_Color, Quantity_TOC_RGB
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopLoc import TopLoc_Location
 from OCP.TopoDS import TopoDS
-from OCP.XCAFDoc import XCAFDoc_DocumentTool
+from OCP.XCAFDoc import XCAFDoc_ColorSurf, XCAFDoc_DocumentTool
 from OCP.BRepAdaptor import BRepAdaptor_Curve
 from OCP.gp import gp_Ax1, gp_Ax2, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
 
@@ -107,8 +114,9 @@ def fix_iges_header(path):
         f.write("\n".join(out))
 
 
-def write_assembly(path, schema):
-    """The assembly through XCAF, as cadquery's `Assembly.save(..., "STEP")` does."""
+def write_assembly(path, schema, colors=False):
+    """The assembly through XCAF, as cadquery's `Assembly.save(..., "STEP")` does; with
+    `colors`, the parts and one face coloured."""
     STEPControl_Controller.Init_s()
     doc = TDocStd_Document(TCollection_ExtendedString("XmlOcaf"))
     tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
@@ -130,6 +138,18 @@ def write_assembly(path, schema):
     tool.AddComponent(top, plate_l, TopLoc_Location(trsf((0, 0, 1), 30.0, (1.0 * INCH, 3.0 * INCH, 0.5 * INCH))))
     tool.AddComponent(top, pair_l, TopLoc_Location(trsf((0, 0, 1), 0.0, (0.0, 0.0, 0.25 * INCH))))
     tool.AddComponent(top, pair_l, TopLoc_Location(trsf((1, 1, 0), 90.0, (6.0 * INCH, 0.0, 1.0 * INCH))))
+    if colors:
+        ctool = XCAFDoc_DocumentTool.ColorTool_s(doc.Main())
+        rgb = lambda r, g, b: Quantity_Color(r, g, b, Quantity_TOC_RGB)  # noqa: E731
+        ctool.SetColor(plate_l, rgb(0.8, 0.1, 0.1), XCAFDoc_ColorSurf)
+        ctool.SetColor(pin_l, rgb(0.1, 0.2, 0.9), XCAFDoc_ColorSurf)
+        ex = TopExp_Explorer(tool.GetShape_s(plate_l), TopAbs_FACE)
+        while ex.More():
+            if BRepAdaptor_Surface(TopoDS.Face_s(ex.Current())).GetType().name == "GeomAbs_Cylinder":
+                face_l = tool.AddSubShape(plate_l, ex.Current())
+                ctool.SetColor(face_l, rgb(0.1, 0.7, 0.2), XCAFDoc_ColorSurf)
+                break
+            ex.Next()
     tool.UpdateAssemblies()
     assert Interface_Static.SetCVal_s("write.step.schema", schema)
     assert Interface_Static.SetCVal_s("write.step.unit", "INCH")
@@ -206,6 +226,7 @@ def main():
     os.makedirs(a.out_dir, exist_ok=True)
     write_assembly(os.path.join(a.out_dir, "assembly_ap203.stp"), "AP203")
     write_assembly(os.path.join(a.out_dir, "assembly_ap214.stp"), "AP214IS")
+    write_assembly(os.path.join(a.out_dir, "assembly_colors.stp"), "AP214IS", colors=True)
     write_shaft(os.path.join(a.out_dir, "shaft.igs"))
 
 

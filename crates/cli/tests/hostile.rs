@@ -281,7 +281,11 @@ fn a_part_placed_twice_is_morphed_with_a_copy_for_each_moved_placement() {
     assert_eq!(surfaces.len(), 30, "every placed face has its own surface");
     assert!(surfaces.iter().all(|s| !s.contains("occurrence")), "{surfaces:?}");
     let text = std::fs::read_to_string(&out).unwrap();
-    assert_eq!(text.matches("NEXT_ASSEMBLY_USAGE_OCCURRENCE").count(), 8, "the occurrences of the input and of the copied pair");
+    assert_eq!(
+        text.matches("NEXT_ASSEMBLY_USAGE_OCCURRENCE").count(),
+        8,
+        "the occurrences of the input and of the copied pair"
+    );
     assert_eq!(text.matches("SHAPE_DEFINITION_REPRESENTATION").count(), 9);
 }
 
@@ -301,7 +305,9 @@ fn a_part_placed_by_mapped_items_is_morphed_with_a_copy_for_each_moved_placement
     // A morph that moves nothing copies nothing: the file comes back byte for byte.
     let zero = s.path("zero.stp");
     let mut prm = String::from("[Box info]\n");
-    for (k, v) in [("n control points", "2"), ("box length", "4000.0"), ("box origin", "-2000.0"), ("rotation angle", "0.0")] {
+    for (k, v) in
+        [("n control points", "2"), ("box length", "4000.0"), ("box origin", "-2000.0"), ("rotation angle", "0.0")]
+    {
         for a in ["x", "y", "z"] {
             prm += &format!("{k} {a}: {v}\n");
         }

@@ -380,6 +380,14 @@ impl<D: CadDocument> Model<D> {
         let mut in_plane_faces = vec![false; moved.len()];
         let size = self.size();
         let bounds = &self.bounds;
+        // A plane with an iso-boundary edge keeps its moved control points even when the
+        // morph keeps it in its plane (they stay in the plane): its side then stays on
+        // the neighbour's, which a re-bounded patch would leave by its margin.
+        let mut on_iso = vec![false; moved.len()];
+        for e in &self.iso {
+            on_iso[e.a.patch] = true;
+            on_iso[e.b.patch] = true;
+        }
         for (k, ((face, r), s)) in self.faces.iter_mut().zip(refined).zip(moved).enumerate() {
             unmoved.push(face.surface.clone());
             if face.kind.is_analytic() {
@@ -424,7 +432,12 @@ impl<D: CadDocument> Model<D> {
                         // Curves are traced from this form (its parameters), not from the patch.
                         *unmoved.last_mut().expect("pushed above") = target.clone();
                         d.deform(target.control_points_mut());
-                        match in_plane(&b, &target, bounds.iter().filter(|c| c.face == k), d, size) {
+                        let kept = if on_iso[k] {
+                            None
+                        } else {
+                            in_plane(&b, &target, bounds.iter().filter(|c| c.face == k), d, size)
+                        };
+                        match kept {
                             Some(p) => {
                                 in_plane_faces[k] = true;
                                 p

@@ -434,9 +434,7 @@ impl Document {
         for (pid, w) in [(ps, at_start), (pe, at_end)] {
             // A point an earlier write moved stays; so does one that is also a control
             // point of a curve or surface (that geometry owns it and moves it itself).
-            if self.rewritten(pid)
-                || self.referrers(pid).into_iter().any(|k| self.name_of(k) != "VERTEX_POINT")
-            {
+            if self.rewritten(pid) || self.referrers(pid).into_iter().any(|k| self.name_of(k) != "VERTEX_POINT") {
                 continue;
             }
             let local = inverse.transform_point(&w);

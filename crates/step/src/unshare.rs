@@ -301,18 +301,27 @@ impl Document {
             self.put(new_cdsr, text, true)?;
         }
         // Colours and other styles of the copied items, listed beside the originals.
-        let styled: Vec<u64> = seen
-            .iter()
-            .flat_map(|&k| g.styled.get(&self.instances[k].id).into_iter().flatten().copied())
-            .collect();
+        // Plain styled items first: an over-riding one names the style it overrides,
+        // which its copy must name in the copy.
+        let mut styled: Vec<u64> =
+            seen.iter().flat_map(|&k| g.styled.get(&self.instances[k].id).into_iter().flatten().copied()).collect();
+        styled.sort_by_key(|&si| self.index.get(si).is_some_and(|k| self.name_of(k) != "STYLED_ITEM"));
+        let mut appends: HashMap<u64, HashMap<u64, String>> = HashMap::new();
         for si in styled {
             let new_si = self.fresh()?;
             let text = self.retarget(self.at(si)?, new_si, &map)?;
+            map.insert(si, format!("#{new_si}"));
             self.put(new_si, text, true)?;
             for &list in g.lists.get(&si).map_or(&[][..], Vec::as_slice) {
-                let text = self.retarget(self.at(list)?, list, &HashMap::from([(si, format!("#{si},#{new_si}"))]))?;
-                self.replace_instance_text(EntityId(list), text)?;
+                appends.entry(list).or_default().insert(si, format!("#{si},#{new_si}"));
             }
+        }
+        // One rewrite per presentation list, however many styles it gains.
+        let mut lists: Vec<_> = appends.into_iter().collect();
+        lists.sort_unstable_by_key(|(l, _)| *l);
+        for (list, add) in lists {
+            let text = self.retarget(self.at(list)?, list, &add)?;
+            self.replace_instance_text(EntityId(list), text)?;
         }
         Ok((new_rep, pd_pair))
     }
@@ -424,8 +433,12 @@ impl Graph {
                         g.cdsr_of_link.entry(link).or_insert(id);
                     }
                 }
-                "STYLED_ITEM" => {
-                    if let Some(&item) = doc.refs_of(k)?.last() {
+                // ISO 10303-46 §4.4.1 styled_item(name, styles, item); over_riding_styled_item
+                // adds over_ridden_style after the item.
+                "STYLED_ITEM" | "OVER_RIDING_STYLED_ITEM" => {
+                    let refs = doc.refs_of(k)?;
+                    let back = if name == "STYLED_ITEM" { 1 } else { 2 };
+                    if let Some(&item) = refs.len().checked_sub(back).and_then(|i| refs.get(i)) {
                         g.styled.entry(item).or_default().push(id);
                     }
                 }

@@ -100,4 +100,3 @@ fn placements_that_move_nothing_keep_sharing_and_nothing_moved_changes_nothing()
     let unchanged = before.len() - changed.len();
     assert!(unchanged > 0 && changed.iter().all(|&i| after[i].transform == before[i].transform));
 }
-

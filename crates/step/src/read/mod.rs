@@ -501,10 +501,7 @@ pub(crate) fn scan_instance_at(text: &[u8]) -> Result<(Instance, Vec<(u64, usize
     if end.kind != Kind::End {
         return Err(r.unexpected(end, "the end of the instance text"));
     }
-    Ok((
-        Instance { id, start: 0, end: semi.end, body: body.start as u32, name_len: name_len as u32, complex },
-        refs,
-    ))
+    Ok((Instance { id, start: 0, end: semi.end, body: body.start as u32, name_len: name_len as u32, complex }, refs))
 }
 
 #[cfg(test)]
