@@ -153,10 +153,16 @@ impl<D: CadDocument> Model<D> {
     /// their control points. Only the entities that changed are rewritten: a morph that
     /// moves nothing leaves the document byte-identical.
     ///
+    /// A part placed more than once (a STEP assembly's repeated component, a mapped
+    /// representation) first gets its own copy for each placement holding a face the
+    /// morph moves ([`CadDocument::unshare`]), so each placement moves its own way;
+    /// placements that do not move keep sharing the original.
+    ///
     /// # Errors
     ///
-    /// [`Error::NonFinite`] or [`Error::Folded`] before anything is changed; the
-    /// document's errors.
+    /// [`Error::NonFinite`] or [`Error::Folded`] before anything is changed;
+    /// [`Error::SharedSurface`] for a moved part placed more than once that the document
+    /// cannot copy (IGES subfigure instances); the document's errors.
     pub fn morph(&mut self, d: &dyn Deformation, opts: &MorphOptions) -> Result<MorphOutcome> {
         self.morph_with_progress(d, opts, &Silent)
     }
@@ -598,7 +604,9 @@ fn morphed_curve(c: &cadmorph_nurbs::NurbsCurve, d: &dyn Deformation, tol: f64) 
 /// bilinear patch of the plane's own parameterisation over the box of the moved curves'
 /// control points (which hold the curves, Piegl & Tiller property P4.9) and of the
 /// morph's image of the curves (what a curve traced on a bent neighbour follows), 1 %
-/// wider on each side. `None` when the
+/// wider on each side. (`write_faces` does not ask this of a plane that meets a
+/// neighbour along an iso-boundary: its moved control points stay in the plane and its
+/// side on the neighbour's.) `None` when the
 /// morph takes the face out of its plane (or the form is not an affine plane, or it has
 /// no curves).
 fn in_plane<'a>(
