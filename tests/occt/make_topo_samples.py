@@ -13,6 +13,12 @@ Writes, deterministically (fixed header dates and authors):
       NEXT_ASSEMBLY_USAGE_OCCURRENCE with a CONTEXT_DEPENDENT_SHAPE_REPRESENTATION and an
       ITEM_DEFINED_TRANSFORMATION; the same part's faces appear at several places.
       Unit: inch (write.step.unit = INCH), the numbers in the file are inches.
+  assembly_catia.stp
+      assembly_ap214.stp in the layout CATIA and NX write a part: the product's
+      SHAPE_DEFINITION_REPRESENTATION names an axis-only SHAPE_REPRESENTATION, a
+      SHAPE_REPRESENTATION_RELATIONSHIP(that, the ADVANCED_BREP_SHAPE_REPRESENTATION)
+      joins the solid to it (the named one first, where OCCT writes no such pair), and the
+      assembly's transformations place the named one. Made by rewriting OCCT's text.
   assembly_colors.stp
       assembly_ap214.stp with XCAF colours, as cadquery writes an assembly whose parts have
       colours: the plate red, the pin blue (STYLED_ITEMs of the parts' solids listed by a
@@ -160,6 +166,23 @@ def write_assembly(path, schema, colors=False):
     fix_step_header(path)
 
 
+def catia_layout(text):
+    """`text` (an OCCT assembly) with each part's solid behind an axis-only
+    SHAPE_REPRESENTATION that the product names and the assembly places."""
+    top = max(int(m) for m in re.findall(r"^#(\d+) =", text, re.M))
+    absr = dict(re.findall(r"^#(\d+) = ADVANCED_BREP_SHAPE_REPRESENTATION\('',\(#(\d+),", text, re.M))
+    ctx = dict(re.findall(r"^#(\d+) = ADVANCED_BREP_SHAPE_REPRESENTATION\(.*,#(\d+)\);", text, re.M))
+    added = []
+    for rep, axis in sorted(absr.items(), key=lambda kv: int(kv[0])):
+        sr, srr = top + 1, top + 2
+        top += 2
+        added.append("#%d = SHAPE_REPRESENTATION('',(#%s),#%s);" % (sr, axis, ctx[rep]))
+        added.append("#%d = SHAPE_REPRESENTATION_RELATIONSHIP('','',#%d,#%s);" % (srr, sr, rep))
+        text = re.sub(r"(SHAPE_DEFINITION_REPRESENTATION\(#\d+,)#%s\)" % rep, r"\g<1>#%d)" % sr, text)
+        text = text.replace("REPRESENTATION_RELATIONSHIP('','',#%s," % rep, "REPRESENTATION_RELATIONSHIP('','',#%d," % sr)
+    return text.replace("ENDSEC;\nEND-ISO", "\n".join(added) + "\nENDSEC;\nEND-ISO", 1)
+
+
 def shaft():
     """A stepped shaft (metres): profile in the xz plane revolved about x, with a fillet
     at a shoulder and a chamfer at one end, then placed on a tilted axis."""
@@ -227,6 +250,10 @@ def main():
     write_assembly(os.path.join(a.out_dir, "assembly_ap203.stp"), "AP203")
     write_assembly(os.path.join(a.out_dir, "assembly_ap214.stp"), "AP214IS")
     write_assembly(os.path.join(a.out_dir, "assembly_colors.stp"), "AP214IS", colors=True)
+    with open(os.path.join(a.out_dir, "assembly_ap214.stp")) as f:
+        catia = catia_layout(f.read())
+    with open(os.path.join(a.out_dir, "assembly_catia.stp"), "w", newline="") as f:
+        f.write(catia)
     write_shaft(os.path.join(a.out_dir, "shaft.igs"))
 
 

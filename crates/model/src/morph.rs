@@ -386,14 +386,6 @@ impl<D: CadDocument> Model<D> {
         let mut in_plane_faces = vec![false; moved.len()];
         let size = self.size();
         let bounds = &self.bounds;
-        // A plane with an iso-boundary edge keeps its moved control points even when the
-        // morph keeps it in its plane (they stay in the plane): its side then stays on
-        // the neighbour's, which a re-bounded patch would leave by its margin.
-        let mut on_iso = vec![false; moved.len()];
-        for e in &self.iso {
-            on_iso[e.a.patch] = true;
-            on_iso[e.b.patch] = true;
-        }
         for (k, ((face, r), s)) in self.faces.iter_mut().zip(refined).zip(moved).enumerate() {
             unmoved.push(face.surface.clone());
             if face.kind.is_analytic() {
@@ -438,12 +430,7 @@ impl<D: CadDocument> Model<D> {
                         // Curves are traced from this form (its parameters), not from the patch.
                         *unmoved.last_mut().expect("pushed above") = target.clone();
                         d.deform(target.control_points_mut());
-                        let kept = if on_iso[k] {
-                            None
-                        } else {
-                            in_plane(&b, &target, bounds.iter().filter(|c| c.face == k), d, size)
-                        };
-                        match kept {
+                        match in_plane(&b, &target, bounds.iter().filter(|c| c.face == k), d, size) {
                             Some(p) => {
                                 in_plane_faces[k] = true;
                                 p
@@ -604,9 +591,11 @@ fn morphed_curve(c: &cadmorph_nurbs::NurbsCurve, d: &dyn Deformation, tol: f64) 
 /// bilinear patch of the plane's own parameterisation over the box of the moved curves'
 /// control points (which hold the curves, Piegl & Tiller property P4.9) and of the
 /// morph's image of the curves (what a curve traced on a bent neighbour follows), 1 %
-/// wider on each side. (`write_faces` does not ask this of a plane that meets a
-/// neighbour along an iso-boundary: its moved control points stay in the plane and its
-/// side on the neighbour's.) `None` when the
+/// wider on each side and at least `3e-3 ×` the model size wider (so that no side of
+/// the new patch lies within the edge pairing tolerance, `1e-3 ×` the size, of a
+/// neighbour's side: the plane's edges are its curves now, not its iso-boundaries; a
+/// narrow side face of an OCCT plate, 0.25 in, kept 1 % = 2.5e-3 in off the bent top's
+/// side, was paired with it as an iso-boundary and failed the check). `None` when the
 /// morph takes the face out of its plane (or the form is not an affine plane, or it has
 /// no curves).
 fn in_plane<'a>(
@@ -677,7 +666,8 @@ fn in_plane<'a>(
     // A margin of 1 % of the extent for what lies between those points (and a traced
     // curve's own tolerance): the face is trimmed by its curves, so a larger plane patch
     // changes nothing else.
-    let (ms, mt) = (0.01 * (hi.0 - lo.0), 0.01 * (hi.1 - lo.1));
+    let floor = 3e-3 * size;
+    let (ms, mt) = ((0.01 * (hi.0 - lo.0)).max(floor / eu.norm()), (0.01 * (hi.1 - lo.1)).max(floor / ev.norm()));
     let (lo, hi) = ((lo.0 - ms, lo.1 - mt), (hi.0 + ms, hi.1 + mt));
     let at = |s: f64, t: f64| o + eu * s + ev * t;
     // In the form's parameter ranges, so the face keeps its parameter domain; control

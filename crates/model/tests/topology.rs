@@ -110,6 +110,7 @@ fn assembly_edges_are_occts() {
     // 2 plates and 4 pins (two placements of a pair): no edge across parts or instances.
     compare::<cadmorph_step::Document>(&sample("assembly_ap203.stp"), 40, 1e-9);
     compare::<cadmorph_step::Document>(&sample("assembly_ap214.stp"), 40, 1e-9);
+    compare::<cadmorph_step::Document>(&sample("assembly_catia.stp"), 40, 1e-9);
 }
 
 #[test]

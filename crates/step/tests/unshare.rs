@@ -74,6 +74,8 @@ fn check_all_moved(name: &str, faces_expected: usize) {
 fn every_placement_of_a_moved_part_gets_its_own_copy() {
     check_all_moved("assembly_ap214.stp", 30);
     check_all_moved("assembly_ap203.stp", 30);
+    check_all_moved("assembly_catia.stp", 30);
+    check_all_moved("assembly_colors.stp", 30);
     check_all_moved("mapped_item.stp", 35);
     check_all_moved("mapped_item_root.stp", 42);
 }

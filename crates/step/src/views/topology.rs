@@ -64,6 +64,9 @@ struct Walk {
     stack: Vec<u64>,
     root: EntityId,
     path: Vec<Link>,
+    /// The representations of the shape being read at this placement (joined by
+    /// relationships without a transformation), each read once.
+    shape: Vec<u64>,
 }
 
 impl Walk {
@@ -108,6 +111,8 @@ impl Ctx<'_> {
         let mut context_scale: HashMap<u64, f64> = HashMap::new();
         let mut children: HashMap<u64, Vec<(u64, Option<EntityId>, EntityId)>> = HashMap::new();
         let mut is_child: HashMap<u64, bool> = HashMap::new();
+        // Pairs joined by relationships without a transformation.
+        let mut plain: Vec<(u64, u64)> = Vec::new();
         // Representations a REPRESENTATION_MAP maps, and those a product's
         // SHAPE_DEFINITION_REPRESENTATION names.
         let mut mapped: HashMap<u64, bool> = HashMap::new();
@@ -165,7 +170,17 @@ impl Ctx<'_> {
                     None => None,
                 };
                 children.entry(parent.0).or_default().push((child.0, transform, id));
-                is_child.insert(child.0, true);
+                if transform.is_some() {
+                    is_child.insert(child.0, true);
+                } else {
+                    // A relationship without a transformation joins two representations of
+                    // one shape (an axis-only SHAPE_REPRESENTATION that a product names and
+                    // the ADVANCED_BREP_SHAPE_REPRESENTATION holding its solid, in either
+                    // order: CATIA and NX write the named one first, OCCT the other way):
+                    // OCCT follows it both ways, so the walk does too.
+                    children.entry(child.0).or_default().push((parent.0, None, id));
+                    plain.push((child.0, parent.0));
+                }
             }
         }
         let tree = Tree {
@@ -178,10 +193,44 @@ impl Ctx<'_> {
         // A representation only a REPRESENTATION_MAP reaches is read where MAPPED_ITEMs
         // place it; one that a product also names is a root as well (OCCT 7.9 reads it
         // both unplaced and at every MAPPED_ITEM).
-        let is_root =
-            |r: &EntityId| !is_child.contains_key(&r.0) && (!mapped.contains_key(&r.0) || defined.contains_key(&r.0));
-        for &root in reps.iter().filter(|r| is_root(r)) {
-            let mut walk = Walk { stack: vec![root.0], root, path: Vec::new() };
+        // Representations joined without a transformation are one shape: it is placed
+        // where any of them is (a child of a placing relationship), and read once from its
+        // first candidate root otherwise.
+        let mut group: HashMap<u64, u64> = HashMap::new();
+        fn find(group: &mut HashMap<u64, u64>, mut r: u64) -> u64 {
+            while let Some(&up) = group.get(&r) {
+                if up == r {
+                    break;
+                }
+                r = up;
+            }
+            r
+        }
+        for &(a, b) in &plain {
+            let (ra, rb) = (find(&mut group, a), find(&mut group, b));
+            if ra != rb {
+                group.insert(ra, rb);
+                group.entry(rb).or_insert(rb);
+            }
+        }
+        let mut placed_groups: std::collections::HashSet<u64> = std::collections::HashSet::new();
+        for r in is_child.keys() {
+            placed_groups.insert(find(&mut group, *r));
+        }
+        let mut rooted: std::collections::HashSet<u64> = std::collections::HashSet::new();
+        let mut roots = Vec::new();
+        for r in &reps {
+            let g = find(&mut group, r.0);
+            if !is_child.contains_key(&r.0)
+                && (!mapped.contains_key(&r.0) || defined.contains_key(&r.0))
+                && !placed_groups.contains(&g)
+                && rooted.insert(g)
+            {
+                roots.push(*r);
+            }
+        }
+        for &root in &roots {
+            let mut walk = Walk { stack: vec![root.0], root, path: Vec::new(), shape: vec![root.0] };
             self.descend(root, Matrix4::identity(), &tree, &mut walk, &mut out)?;
         }
         Ok(out)
@@ -245,13 +294,22 @@ impl Ctx<'_> {
             // OCCT's order, not ISO's: see `descend`'s docs.
             let rel = Matrix4::new_scaling(1.0 / s) * rigid_inverse(&from) * to;
             let w = world * Matrix4::new_scaling(s) * rel * Matrix4::new_scaling(1.0 / sc);
+            let outer = std::mem::replace(&mut walk.shape, vec![mapped.0]);
             walk.enter(Link { via: item, rep: mapped });
             self.descend(mapped, w, tree, walk, out)?;
             walk.leave();
+            walk.shape = outer;
         }
         self.push_run(rep, world * Matrix4::new_scaling(s), &mut run, tree, walk, out)?;
         let Some(kids) = children.get(&rep.0) else { return Ok(()) };
         for &(child, t, via) in kids {
+            if t.is_none() {
+                // One shape's representations, each read once per placement.
+                if walk.shape.contains(&child) || walk.stack.contains(&child) {
+                    continue;
+                }
+                walk.shape.push(child);
+            }
             if walk.stack.contains(&child) {
                 return Err(Error::ReferenceCycle {
                     at: self.doc.position_of_id(EntityId(child)),
@@ -282,12 +340,16 @@ impl Ctx<'_> {
                 }
             };
             if rep_scale.contains_key(&child) {
+                let outer = if t.is_some() { Some(std::mem::replace(&mut walk.shape, vec![child])) } else { None };
                 walk.enter(Link { via, rep: EntityId(child) });
                 // The child's own scale is applied by `descend`; `rel` works in model
                 // units, so remove it again from the child's point of view.
                 let w = world * Matrix4::new_scaling(s) * rel * Matrix4::new_scaling(1.0 / sc);
                 self.descend(EntityId(child), w, tree, walk, out)?;
                 walk.leave();
+                if let Some(outer) = outer {
+                    walk.shape = outer;
+                }
             }
         }
         Ok(())
