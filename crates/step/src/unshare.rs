@@ -64,16 +64,26 @@ impl Document {
     ///
     /// The errors of [`Document::faces`] for malformed placements; [`Error::Limit`] when
     /// the copies would grow the document without bound; [`Error::Edit`] for a product
-    /// structure that names a missing instance.
+    /// structure that names a missing instance. After an error the document is unchanged.
     pub fn unshare(&mut self, moved: &HashSet<(EntityId, usize)>) -> Result<usize> {
         let run_moved = self.moved_runs(moved)?;
         if !run_moved.iter().any(|&m| m) {
             return Ok(0);
         }
+        // All or nothing: a failure part-way leaves the document as it was.
+        let before = self.clone();
+        let result = self.unshare_runs(&run_moved);
+        if result.is_err() {
+            *self = before;
+        }
+        result
+    }
+
+    fn unshare_runs(&mut self, run_moved: &[bool]) -> Result<usize> {
         let limit = self.instances.len().saturating_mul(64).saturating_add(1 << 20);
         let mut copies = 0;
         loop {
-            let Some(links) = self.unshare_plan(&run_moved)? else { return Ok(copies) };
+            let Some(links) = self.unshare_plan(run_moved)? else { return Ok(copies) };
             let graph = Graph::of(self)?;
             for link in links {
                 self.copy_for(link, &graph)?;

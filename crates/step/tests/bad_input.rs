@@ -65,13 +65,34 @@ fn reference_cycles() {
     .unwrap();
     let e = doc.units().unwrap_err();
     assert!(matches!(e, Error::ReferenceCycle { target: EntityId(2), .. }), "{e}");
-    // Two representations placed in each other.
+    // Representations joined without transformations, round in a circle, are one shape
+    // (OCCT follows such relationships both ways): read once, no cycle.
     let doc = Document::parse(
         wrap(
             "#1 = SHAPE_REPRESENTATION('',(),$);\n#2 = SHAPE_REPRESENTATION('',(),$);\n\
              #3 = SHAPE_REPRESENTATION_RELATIONSHIP('','',#1,#2);\n#4 = SHAPE_REPRESENTATION_RELATIONSHIP('','',#2,#1);\n\
              #5 = SHAPE_REPRESENTATION('',(),$);\n#6 = SHAPE_REPRESENTATION_RELATIONSHIP('','',#1,#5);\n",
         )
+        .as_bytes(),
+    )
+    .unwrap();
+    assert!(doc.faces().unwrap().is_empty());
+    // Two representations placed in each other (relationships with transformations).
+    let placed = |id: u64, child: u64, parent: u64| {
+        format!(
+            "#{id} = ( REPRESENTATION_RELATIONSHIP('','',#{child},#{parent}) \
+             REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION(#9) SHAPE_REPRESENTATION_RELATIONSHIP() );\n"
+        )
+    };
+    let doc = Document::parse(
+        wrap(&format!(
+            "#1 = SHAPE_REPRESENTATION('',(),$);\n#2 = SHAPE_REPRESENTATION('',(),$);\n\
+             #5 = SHAPE_REPRESENTATION('',(),$);\n#7 = CARTESIAN_POINT('',(0.,0.,0.));\n\
+             #8 = AXIS2_PLACEMENT_3D('',#7,$,$);\n#9 = ITEM_DEFINED_TRANSFORMATION('','',#8,#8);\n{}{}{}",
+            placed(3, 1, 2),
+            placed(4, 2, 1),
+            placed(6, 1, 5)
+        ))
         .as_bytes(),
     )
     .unwrap();

@@ -102,3 +102,18 @@ fn placements_that_move_nothing_keep_sharing_and_nothing_moved_changes_nothing()
     let unchanged = before.len() - changed.len();
     assert!(unchanged > 0 && changed.iter().all(|&i| after[i].transform == before[i].transform));
 }
+
+#[test]
+fn a_broken_occurrence_is_an_error_naming_it_and_changes_nothing() {
+    // The second plate's PRODUCT_DEFINITION_SHAPE no longer names its occurrence: the
+    // copy cannot be given to the occurrence, so nothing is copied.
+    let text = std::fs::read_to_string(cadmorph_testkit::sample("assembly_ap214.stp")).unwrap();
+    let old = "#479 = PRODUCT_DEFINITION_SHAPE('Placement','Placement of an item',#480";
+    assert!(text.contains(old));
+    let bad = text.replace(old, "#479 = PRODUCT_DEFINITION_SHAPE('Placement','Placement of an item',$");
+    let mut doc = Document::parse(bad.as_bytes()).unwrap();
+    let moved: HashSet<_> = placed(&doc.faces().unwrap()).into_iter().collect();
+    let e = doc.unshare(&moved).unwrap_err().to_string();
+    assert!(e.contains("#479") && e.contains("assembly usage occurrence"), "{e}");
+    assert_eq!(doc.write(), bad.as_bytes(), "nothing changed");
+}
