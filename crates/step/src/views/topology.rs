@@ -45,13 +45,17 @@ pub(crate) struct Link {
     pub rep: EntityId,
 }
 
+/// Each representation's related representations: `(other, its ITEM_DEFINED_TRANSFORMATION
+/// if any, the relationship instance)`.
+type Children = HashMap<u64, Vec<(u64, Option<EntityId>, EntityId)>>;
+
 /// What [`Ctx::descend`] needs to know of the file's representations.
 struct Tree<'m> {
     /// Model units per unit of each shape representation's context.
     rep_scale: &'m HashMap<u64, f64>,
     /// Children of each representation by (SHAPE_)REPRESENTATION_RELATIONSHIP, with the
     /// ITEM_DEFINED_TRANSFORMATION if any and the relationship instance.
-    children: &'m HashMap<u64, Vec<(u64, Option<EntityId>, EntityId)>>,
+    children: &'m Children,
     /// Most occurrences (item runs) listed, and representations visited, before giving up.
     limit: usize,
     /// Representations visited so far (empty ones too: a map of maps of nothing).
@@ -109,7 +113,7 @@ impl Ctx<'_> {
         let mut reps = Vec::new(); // (id, scale)
         let mut rep_scale: HashMap<u64, f64> = HashMap::new();
         let mut context_scale: HashMap<u64, f64> = HashMap::new();
-        let mut children: HashMap<u64, Vec<(u64, Option<EntityId>, EntityId)>> = HashMap::new();
+        let mut children: Children = HashMap::new();
         let mut is_child: HashMap<u64, bool> = HashMap::new();
         // Pairs joined by relationships without a transformation.
         let mut plain: Vec<(u64, u64)> = Vec::new();
@@ -197,14 +201,20 @@ impl Ctx<'_> {
         // where any of them is (a child of a placing relationship), and read once from its
         // first candidate root otherwise.
         let mut group: HashMap<u64, u64> = HashMap::new();
+        // Union-find with path halving: a hostile file's long chains stay near-linear.
         fn find(group: &mut HashMap<u64, u64>, mut r: u64) -> u64 {
-            while let Some(&up) = group.get(&r) {
-                if up == r {
-                    break;
-                }
-                r = up;
+            loop {
+                let up = match group.get(&r) {
+                    Some(&up) if up != r => up,
+                    _ => return r,
+                };
+                let next = match group.get(&up) {
+                    Some(&next) if next != up => next,
+                    _ => return up,
+                };
+                group.insert(r, next);
+                r = next;
             }
-            r
         }
         for &(a, b) in &plain {
             let (ra, rb) = (find(&mut group, a), find(&mut group, b));
