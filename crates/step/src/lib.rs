@@ -8,8 +8,11 @@
 //! files. [`Document`] implements `cadmorph_brep::CadDocument`: its face write
 //! ([`Document::write_surface_shared`]) keeps the file's sharing of points (a point
 //! shared by two faces moves once), its edge write ([`Document::set_edge_curve`]) moves
-//! the edge's vertices with the new curve. It does not morph, check seams or know about
-//! IGES; see `cadmorph-model`, `cadmorph-seam` and `cadmorph-iges`.
+//! the edge's vertices with the new curve. A part that an assembly or `MAPPED_ITEM`s
+//! place more than once can be given a copy per placement ([`Document::unshare`]: the
+//! geometry, the product definition and the styles), so that each placement can be
+//! edited alone. It does not morph, check seams or know about IGES; see
+//! `cadmorph-model`, `cadmorph-seam` and `cadmorph-iges`.
 //!
 //! ```
 //! use cadmorph_step::Document;
