@@ -25,7 +25,7 @@ use std::collections::{BTreeSet, HashMap, HashSet};
 use crate::document::Document;
 use crate::error::{Error, Position, Result};
 use crate::read::{scan_instance, scan_instance_at};
-use crate::views::Link;
+use crate::views::{Link, Occurrence};
 use crate::EntityId;
 
 /// Indexes of the product structure and presentation, as the document stands.
@@ -47,6 +47,8 @@ struct Graph {
 /// A representation entered by the placement walk: the links taken to it (empty for a
 /// root) and whether a moved face lies below.
 struct Entry {
+    /// The root representation of the walk that entered it.
+    root: u64,
     prefix: Vec<Link>,
     moved: bool,
 }
@@ -83,8 +85,9 @@ impl Document {
         let limit = self.instances.len().saturating_mul(64).saturating_add(1 << 20);
         let mut copies = 0;
         loop {
-            let Some(links) = self.unshare_plan(run_moved)? else { return Ok(copies) };
-            let graph = Graph::of(self)?;
+            let (occs, plan) = self.unshare_plan(run_moved)?;
+            let Some(links) = plan else { return Ok(copies) };
+            let graph = Graph::of(self, &occs)?;
             for link in links {
                 self.copy_for(link, &graph)?;
                 copies += 1;
@@ -104,12 +107,8 @@ impl Document {
         let mut seen: HashMap<u64, usize> = HashMap::new();
         let mut out = Vec::new();
         for occ in ctx.occurrences(units.length.metres)? {
-            let mut faces = Vec::new();
-            for &item in &occ.items {
-                ctx.item_faces(item, &mut faces, 0)?;
-            }
             let mut m = false;
-            for (f, _) in faces {
+            for (f, _) in ctx.run_faces(&occ)? {
                 let n = seen.entry(f.0).or_insert(0);
                 m |= moved.contains(&(f, *n));
                 *n += 1;
@@ -119,13 +118,14 @@ impl Document {
         Ok(out)
     }
 
-    /// The links to redirect to fresh copies next: those of the shallowest repeated
-    /// representation that needs copies, or `None` when none does.
+    /// The placement walk as the document stands, and the links to redirect to fresh
+    /// copies next: those of the first repeated representation that needs copies and
+    /// whose entries pass through no other that does, or `None` when none does.
     ///
     /// Of a representation's entries one keeps the original (the unplaced root entry if
     /// there is one, else the first that moves nothing, else the first); if the keeper
     /// moves, every other entry gets a copy, else every moving one does.
-    fn unshare_plan(&self, run_moved: &[bool]) -> Result<Option<Vec<Link>>> {
+    fn unshare_plan(&self, run_moved: &[bool]) -> Result<(Vec<Occurrence>, Option<Vec<Link>>)> {
         let (ctx, units) = self.ctx()?;
         let occs = ctx.occurrences(units.length.metres)?;
         if occs.len() != run_moved.len() {
@@ -142,7 +142,7 @@ impl Document {
                 let rep = if j == 0 { occ.root.0 } else { occ.path[j - 1].rep.0 };
                 let key = (rep, occ.path[..j].to_vec());
                 let e = *at.entry(key).or_insert_with(|| {
-                    entries.push(Entry { prefix: occ.path[..j].to_vec(), moved: false });
+                    entries.push(Entry { root: occ.root.0, prefix: occ.path[..j].to_vec(), moved: false });
                     by_rep.entry(rep).or_default().push(entries.len() - 1);
                     entries.len() - 1
                 });
@@ -183,10 +183,11 @@ impl Document {
                 let p = &entries[e].prefix;
                 let above = p.len().saturating_sub(1);
                 p[..above].iter().all(|l| !needy.contains(&l.rep.0))
-                    && (p.is_empty() || !needy.contains(&entry_root(&occs, p)))
+                    && (p.is_empty() || !needy.contains(&entries[e].root))
             })
         });
-        Ok(ready.map(|(_, links)| links))
+        let links = ready.map(|(_, links)| links);
+        Ok((occs, links))
     }
 
     /// Redirects `link` (a relationship or a `MAPPED_ITEM`) to a fresh copy of the
@@ -403,13 +404,9 @@ impl Document {
     }
 }
 
-/// The root representation of the walk whose path begins with `prefix`.
-fn entry_root(occs: &[crate::views::Occurrence], prefix: &[Link]) -> u64 {
-    occs.iter().find(|o| o.path.starts_with(prefix)).map_or(0, |o| o.root.0)
-}
-
 impl Graph {
-    fn of(doc: &Document) -> Result<Self> {
+    /// The indexes of `doc`, whose placement walk is `occs`.
+    fn of(doc: &Document, occs: &[Occurrence]) -> Result<Self> {
         let mut g = Graph {
             sdr_of_rep: HashMap::new(),
             cdsr_of_link: HashMap::new(),
@@ -473,9 +470,8 @@ impl Graph {
             }
         }
         // Relationship children as the placement walk takes them.
-        let (ctx, units) = doc.ctx()?;
         let mut have: HashSet<(u64, u64)> = HashSet::new();
-        for occ in ctx.occurrences(units.length.metres)? {
+        for occ in occs {
             let mut parent = occ.root.0;
             for l in &occ.path {
                 let k = doc.at(l.via.0)?;

@@ -394,8 +394,17 @@ impl Ctx<'_> {
         Ok(())
     }
 
+    /// The faces of one placement run, in item and file order, with their orientation.
+    pub(crate) fn run_faces(&self, occ: &Occurrence) -> Result<Vec<(EntityId, bool)>> {
+        let mut faces = Vec::new();
+        for &item in &occ.items {
+            self.item_faces(item, &mut faces, 0)?;
+        }
+        Ok(faces)
+    }
+
     /// The faces reachable from one representation item, in file order.
-    pub(crate) fn item_faces(&self, id: EntityId, out: &mut Vec<(EntityId, bool)>, depth: usize) -> Result<()> {
+    fn item_faces(&self, id: EntityId, out: &mut Vec<(EntityId, bool)>, depth: usize) -> Result<()> {
         if depth > 16 {
             return Err(Error::Limit { at: self.doc.position_of_id(id), what: "shells nested too deeply" });
         }
@@ -507,11 +516,7 @@ impl Document {
         let mut kinds: HashMap<u64, SurfaceKind> = HashMap::new();
         let mut occurrences_of: HashMap<u64, usize> = HashMap::new();
         for occ in ctx.occurrences(units.length.metres)? {
-            let mut faces = Vec::new();
-            for &item in &occ.items {
-                ctx.item_faces(item, &mut faces, 0)?;
-            }
-            for (fid, orient) in faces {
+            for (fid, orient) in ctx.run_faces(&occ)? {
                 let r = ctx.any(fid)?;
                 r.arity(4)?;
                 let surface = r.reference(2)?;
