@@ -110,13 +110,14 @@ impl Document {
     }
 }
 
-/// The inverse of a 408 placement, `None` for the identity; a singular one (scale 0) is
+/// The inverse of a 408 placement (last row exactly `0 0 0 1`, as `transformed` needs),
+/// `None` for the identity; a singular one (scale 0) is
 /// refused naming `at`.
 fn local(placement: &Matrix4<f64>, at: EntityRef) -> cadmorph_brep::Result<Option<Matrix4<f64>>> {
     if *placement == Matrix4::identity() {
         return Ok(None);
     }
-    placement.try_inverse().map(Some).ok_or_else(|| {
+    cadmorph_nurbs::math::affine_inverse(placement).map(Some).ok_or_else(|| {
         err(crate::Error::Transform {
             de: u32::try_from(at.id).unwrap_or(u32::MAX),
             reason: "the subfigure instances placing it have a singular matrix (scale 0)",
