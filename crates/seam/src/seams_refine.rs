@@ -200,10 +200,13 @@ pub fn refine_seams<D: Deformation + ?Sized>(
 /// from a file's topology or trims) together.
 ///
 /// Along a trim edge neither side has the edge as a boundary row, so the two sides are
-/// held to the exact morph separately: each edge point is projected onto each face,
-/// and where a side's moved surface misses `M ∘ S` by more than `tol / 2`, or its
-/// normal strays from the normal of `M ∘ S` by more than `angle_tol_deg / 2`, the knot
-/// spans holding that point are bisected in both directions. The gap the edge had
+/// held to the exact morph separately: each edge point is projected onto each face, and
+/// where the two sides' distances from `M ∘ S` add up to more than `tol` (or their
+/// normals' deviations from the normals of `M ∘ S` to more than `angle_tol_deg`), the
+/// knot spans holding that point are bisected on each side that takes more than its half
+/// (`tol / 2`, `angle_tol_deg / 2`): in both directions for a distance, in the directions
+/// whose derivatives fall short for a normal. Creases between iso edges are held the
+/// same way. The gap the edge had
 /// before then grows by at most `tol`, and its angle (smooth join or crease) changes as
 /// the exact morph changes it, within `angle_tol_deg`.
 pub fn refine_edges<D: Deformation + ?Sized>(
@@ -281,28 +284,35 @@ pub fn refine_edges<D: Deformation + ?Sized>(
                 // A crease (the sides meet at an angle by design): each side's normal is
                 // held to the exact morph's instead, as along trim edges.
                 if crease[ei] {
-                    let mut dev_sum = 0.0;
-                    for (patch, side, (u, v)) in [(a, e.a.side, (ua, va)), (b, e.b.side, (ub, vb))] {
+                    let mut devs = [None; 2];
+                    for (i, (patch, (u, v))) in [(a, (ua, va)), (b, (ub, vb))].into_iter().enumerate() {
                         let p = patches[patch].eval(u, v);
                         let h = 1e-6 * (1.0 + p.coords.norm());
                         if let (Some(x), Some(y)) =
                             (well_defined_normal(&moved[patch], u, v), exact_normal(&patches[patch], d, u, v, h))
                         {
-                            let dev = x.cross(&y).norm().atan2(x.dot(&y)).to_degrees();
-                            dev_sum += dev;
-                            if dev > opts.angle_tol_deg / 2.0 {
-                                // The normal depends on the tangent along the edge too:
-                                // bisect the directions whose derivatives fall short.
-                                let (du, dv) = short_directions(&patches[patch], &moved[patch], d, u, v, h);
-                                let across_u = matches!(side, Side::UMin | Side::UMax);
-                                let (across, along_too) = if across_u { (du, dv) } else { (dv, du) };
-                                if across {
-                                    marks.across(patch, side);
-                                }
-                                if along_too {
-                                    let t = if patch == a { ta } else { tb };
-                                    marks.along(patch, side, span_of(along(patch, side), t));
-                                }
+                            devs[i] = Some((x.cross(&y).norm().atan2(x.dot(&y)).to_degrees(), h));
+                        }
+                    }
+                    let dev_sum: f64 = devs.iter().flatten().map(|(dev, _)| dev).sum();
+                    // As along trim edges: only where the sum fails, the sides with more
+                    // than their half.
+                    for (i, (patch, side, (u, v))) in
+                        [(a, e.a.side, (ua, va)), (b, e.b.side, (ub, vb))].into_iter().enumerate()
+                    {
+                        let Some((dev, h)) = devs[i] else { continue };
+                        if dev_sum > opts.angle_tol_deg && dev > opts.angle_tol_deg / 2.0 {
+                            // The normal depends on the tangent along the edge too:
+                            // bisect the directions whose derivatives fall short.
+                            let (du, dv) = short_directions(&patches[patch], &moved[patch], d, u, v, h);
+                            let across_u = matches!(side, Side::UMin | Side::UMax);
+                            let (across, along_too) = if across_u { (du, dv) } else { (dv, du) };
+                            if across {
+                                marks.across(patch, side);
+                            }
+                            if along_too {
+                                let t = if i == 0 { ta } else { tb };
+                                marks.along(patch, side, span_of(along(patch, side), t));
                             }
                         }
                     }
@@ -332,7 +342,7 @@ pub fn refine_edges<D: Deformation + ?Sized>(
             let n = 8 * [e.a, e.b].iter().map(|&p| ubreaks[p].len() + vbreaks[p].len()).sum::<usize>() + 1;
             let sides = [e.on_surface(&patches[e.a], n), e.on_surface(&patches[e.b], n)];
             for k in 0..n {
-                let (mut gap, mut angle) = (0.0, 0.0);
+                let mut each = [(0.0, 0.0); 2];
                 for (side, patch) in [e.a, e.b].into_iter().enumerate() {
                     let of = sides[side][k].2;
                     let err = (moved[patch].eval(of.u, of.v) - d.deform_point(&of.point)).norm();
@@ -344,14 +354,25 @@ pub fn refine_edges<D: Deformation + ?Sized>(
                         (Some(x), Some(y)) => x.cross(&y).norm().atan2(x.dot(&y)).to_degrees(),
                         _ => 0.0,
                     };
-                    gap += if err.is_nan() { f64::INFINITY } else { err };
-                    angle += dev;
-                    if err.is_nan() || err > opts.tol / 2.0 || dev > opts.angle_tol_deg / 2.0 {
+                    each[side] = (if err.is_nan() { f64::INFINITY } else { err }, dev);
+                }
+                let gap = each[0].0 + each[1].0;
+                let angle = each[0].1 + each[1].1;
+                // Only where the edge fails, and there only the sides with more than their
+                // half of the tolerance: a side that keeps within its half needs nothing,
+                // nor does a side off by more when the other makes up for it.
+                let (far, turned) = (gap > opts.tol, angle > opts.angle_tol_deg);
+                for (side, patch) in [e.a, e.b].into_iter().enumerate() {
+                    let (err, dev) = each[side];
+                    let off = far && err > opts.tol / 2.0;
+                    if off || (turned && dev > opts.angle_tol_deg / 2.0) {
+                        let of = sides[side][k].2;
                         // A point off the exact morph needs both directions; a normal
                         // alone, only the directions whose derivatives fall short.
-                        let dirs = if err.is_nan() || err > opts.tol / 2.0 {
+                        let dirs = if off {
                             (true, true)
                         } else {
+                            let h = 1e-6 * (1.0 + of.point.coords.norm());
                             short_directions(&patches[patch], &moved[patch], d, of.u, of.v, h)
                         };
                         marks.at(patch, span_of(&ubreaks[patch], of.u), span_of(&vbreaks[patch], of.v), dirs);
