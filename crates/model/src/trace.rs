@@ -149,9 +149,22 @@ pub(crate) fn follow_face(
     if moved_off <= tol {
         return Some(moved);
     }
-    // The image bends where the curve crosses a knot line of the morphed face: break the
-    // fit there.
+    // The image bends where the curve crosses a knot line of the morphed face, as smooth
+    // as the face is across that line (C^(p − m) across a knot of multiplicity m): break
+    // the fit there with that continuity, so a trim stays C1 across the simple knots of a
+    // quadratic face instead of gaining a C0 point where readers split it into edges.
     let mut breaks = Vec::new();
+    let smoothness = |knots: &cadmorph_nurbs::KnotVector, degree: usize, a: f64, b: f64| -> usize {
+        let (lo, hi) = (a.min(b), a.max(b));
+        let (values, mults) = knots.distinct();
+        values
+            .iter()
+            .zip(&mults)
+            .filter(|(k, _)| **k > lo && **k <= hi)
+            .map(|(_, m)| degree.saturating_sub(*m))
+            .min()
+            .unwrap_or(degree)
+    };
     for k in 0..m {
         let cell = spans(uvs[k]);
         if cell == spans(uvs[k + 1]) {
@@ -159,6 +172,7 @@ pub(crate) fn follow_face(
         }
         let (mut lo, mut hi) = (ts[k], ts[k + 1]);
         let mut near = uvs[k];
+        let mut far = uvs[k + 1];
         for _ in 0..40 {
             let mid = 0.5 * (lo + hi);
             let at = uv(mid, Some(near));
@@ -167,17 +181,26 @@ pub(crate) fn follow_face(
                 near = at;
             } else {
                 hi = mid;
+                far = at;
             }
         }
-        breaks.push(0.5 * (lo + hi));
+        let continuity = smoothness(after.u_knots(), after.u_degree(), near.0, far.0).min(smoothness(
+            after.v_knots(),
+            after.v_degree(),
+            near.1,
+            far.1,
+        ));
+        let at = 0.5 * (lo + hi);
+        breaks.push(cadmorph_nurbs::FitBreak { at, continuity });
     }
-    // The curve itself turns its speed where its own knots are full (a rational circle's
-    // quarter points): the image bends there too.
-    breaks.extend(full_knots(c));
+    // The curve's own full knots: its image keeps there what the curve keeps (C1 at a
+    // NURBS circle's quarter points, whose Cartesian derivative is continuous although
+    // the knots are double; a kink or a change of speed elsewhere).
+    breaks.extend(full_knots(c).into_iter().map(|at| cadmorph_nurbs::FitBreak { at, continuity: c1_at(c, at) }));
     // A cubic needs about (r / tol)^(1/4) spans per turn of a curve of radius r: a full
     // circle at 1e-7 of its size takes some 300 poles.
     let max_poles = 2048 + 64 * breaks.len();
-    if let Ok((f, _)) = cadmorph_nurbs::fit_curve(image, (t0, t1), &breaks, 3, tol, max_poles) {
+    if let Ok((f, _)) = cadmorph_nurbs::fit_curve_with_breaks(image, (t0, t1), &breaks, 3, tol, max_poles) {
         return Some(f);
     }
     // Out of poles (a curve across a hundred knot lines of a refined face can need more
@@ -186,13 +209,23 @@ pub(crate) fn follow_face(
     // the morph, not the face: on a refined shaft they were 5e-5 m off a fillet where
     // the fit reached 1.2e-7).
     for loose in [10.0 * tol, 100.0 * tol] {
-        if let Ok((f, dev)) = cadmorph_nurbs::fit_curve(image, (t0, t1), &breaks, 3, loose, max_poles) {
+        if let Ok((f, dev)) = cadmorph_nurbs::fit_curve_with_breaks(image, (t0, t1), &breaks, 3, loose, max_poles) {
             if dev < moved_off {
                 return Some(f);
             }
         }
     }
     Some(moved)
+}
+
+/// 1 when `c`'s first derivatives on the two sides of its knot `at` agree (within 1e-9
+/// of their length: the Cartesian curve is C1 there), else 0.
+fn c1_at(c: &NurbsCurve, at: f64) -> usize {
+    use cadmorph_nurbs::Curve;
+    let Ok((left, right)) = c.split(at) else { return 0 };
+    let (l, r) = (left.derivs(at, 1), right.derivs(at, 1));
+    let (dl, dr) = (l[1], r[1]);
+    usize::from((dl - dr).norm() <= 1e-9 * dl.norm().max(dr.norm()) && dl.norm() > 0.0)
 }
 
 /// The interior knots of `c` of full multiplicity (at least its degree): where the curve

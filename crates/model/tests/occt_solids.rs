@@ -235,11 +235,16 @@ fn planes_kept_in_their_plane_stay_joined_to_the_faces_that_bend() {
         let path = s.0.join(name);
         m.save(&path).unwrap();
         let c = edge_check(&path);
+        println!("{name}: {} in, {} out", input["topology"], c["topology"]);
         assert_eq!(c["valid"], true, "{name}");
         if name == "mixed_solid.igs" {
             // Faces mode (144): OCCT builds each face's edges from its own trims and
-            // splits traced trims at their C0 breaks (60 edges in, 68 out; a known gap).
+            // splits a trim at its C0 points. Traced trims are as smooth as their faces
+            // across the faces' knot lines (68 edges out while every crossing was C0);
+            // the morphed cylinder's double knot lines still kink its rims, which are
+            // its iso-lines (60 edges in, 65 out; a known gap).
             assert_eq!(c["topology"]["faces"], input["topology"]["faces"], "{name}");
+            assert!(c["topology"]["edges"].as_u64().unwrap() <= 65, "{name}: {}", c["topology"]);
         } else {
             assert_eq!(c["topology"], input["topology"], "{name}");
         }

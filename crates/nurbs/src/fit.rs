@@ -121,17 +121,60 @@ pub fn fit_curve(
     tol: f64,
     max_poles: usize,
 ) -> Result<(NurbsCurve, f64)> {
+    let kinks: Vec<FitBreak> = breaks.iter().map(|&at| FitBreak { at, continuity: 0 }).collect();
+    fit_curve_with_breaks(f, domain, &kinks, p, tol, max_poles)
+}
+
+/// A parameter where a fitted function's smoothness may drop (see
+/// [`fit_curve_with_breaks`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FitBreak {
+    /// The parameter.
+    pub at: f64,
+    /// The order of continuity `f` keeps there: 0 for a kink (C0), 1 where it keeps its
+    /// tangent (C1), and so on. The fit puts a knot of multiplicity `p − continuity`
+    /// there (at least 1, P&T §2.2: a knot of multiplicity `m` leaves a degree-`p`
+    /// B-spline C^(p−m) across it).
+    pub continuity: usize,
+}
+
+/// [`fit_curve`] with each break's continuity given: the fit is as smooth across a break
+/// as `f` is. The image of a curve on a surface crosses the surface's knot lines with
+/// the surface's continuity there (C1 across a simple knot of a quadratic), not with a
+/// kink; a fit with full knots there would make the curve C0 where the geometry is
+/// smooth, and readers that split edges at C0 points (OCCT's IGES reader) would find
+/// edges the model does not have. Two breaks closer than 1e-9 of the domain are one, with
+/// the lower continuity.
+///
+/// # Errors
+///
+/// As [`fit_curve`].
+pub fn fit_curve_with_breaks(
+    f: impl Fn(f64) -> Point3<f64>,
+    domain: (f64, f64),
+    breaks: &[FitBreak],
+    p: usize,
+    tol: f64,
+    max_poles: usize,
+) -> Result<(NurbsCurve, f64)> {
     let (t0, t1) = domain;
     if t1.partial_cmp(&t0) != Some(std::cmp::Ordering::Greater) {
         return Err(Error::EmptyDomain { start: t0, end: t1 });
     }
     let min_gap = 1e-9 * (t1 - t0);
     let mut ends = vec![t0];
-    let mut inner: Vec<f64> = breaks.iter().copied().filter(|b| *b > t0 + min_gap && *b < t1 - min_gap).collect();
-    inner.sort_by(f64::total_cmp);
+    // The multiplicity of the knot at each interior end (`mults[i]` for `ends[i + 1]`).
+    let mut mults: Vec<usize> = Vec::new();
+    let mut inner: Vec<FitBreak> =
+        breaks.iter().copied().filter(|b| b.at > t0 + min_gap && b.at < t1 - min_gap).collect();
+    inner.sort_by(|a, b| a.at.total_cmp(&b.at));
     for b in inner {
-        if b - ends.last().copied().unwrap_or(t0) > min_gap {
-            ends.push(b);
+        let m = p.saturating_sub(b.continuity).clamp(1, p.max(1));
+        if b.at - ends.last().copied().unwrap_or(t0) > min_gap {
+            ends.push(b.at);
+            mults.push(m);
+        } else if let Some(last) = mults.last_mut() {
+            *last = (*last).max(m);
         }
     }
     ends.push(t1);
@@ -141,7 +184,7 @@ pub fn fit_curve(
         let mut k = vec![t0; p + 1];
         for (i, w) in ends.windows(2).enumerate() {
             if i > 0 {
-                k.extend(std::iter::repeat_n(w[0], p));
+                k.extend(std::iter::repeat_n(w[0], mults[i - 1]));
             }
             k.extend((1..spans[i]).map(|j| w[0] + (w[1] - w[0]) * j as f64 / spans[i] as f64));
         }
@@ -229,6 +272,36 @@ mod tests {
         let knots = KnotVector::try_new(vec![0., 0., 0.5, 0.5, 0.5, 1., 1.]).unwrap();
         let targets = vec![Point3::origin(); 5];
         assert!(matches!(interpolate(1, &knots, &targets), Err(Error::Fit { .. })));
+    }
+
+    #[test]
+    fn breaks_get_the_multiplicity_of_their_continuity() {
+        // A quadratic B-spline with a simple knot at 0.4 is C1 there (P&T §2.2); a cubic fit
+        // told so puts a double knot there (C1), told of a kink a triple one (C0), and both
+        // follow the quadratic within the tolerance.
+        let knots = KnotVector::try_new(vec![0., 0., 0., 0.4, 1., 1., 1.]).unwrap();
+        let poles = vec![
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 2.0, 0.0),
+            Point3::new(2.0, -1.0, 1.0),
+            Point3::new(3.0, 0.5, 0.0),
+        ];
+        let q = NurbsCurve::try_new(2, knots, poles, None).unwrap();
+        // (At 0.7 the quadratic is smooth: any continuity above p − 1 is a simple knot.)
+        for (at, continuity, mult) in [(0.4, 1, 2), (0.4, 0, 3), (0.7, 5, 1)] {
+            let b = [FitBreak { at: 0.4, continuity: continuity.min(1) }, FitBreak { at, continuity }];
+            let (c, err) = fit_curve_with_breaks(|t| q.eval(t), (0.0, 1.0), &b, 3, 1e-9, 2000).unwrap();
+            assert!(err <= 1e-9, "continuity {continuity}: {err:e}");
+            assert_eq!(c.knots().multiplicity(at, 0.0), mult, "continuity {continuity}");
+            for k in 0..=200 {
+                let t = k as f64 / 200.0;
+                assert!((c.eval(t) - q.eval(t)).norm() <= 1e-9, "continuity {continuity} at {t}");
+            }
+        }
+        // Two breaks closer than 1e-9 of the domain are one, with the lower continuity.
+        let b = [FitBreak { at: 0.4, continuity: 1 }, FitBreak { at: 0.4 + 1e-12, continuity: 0 }];
+        let (c, _) = fit_curve_with_breaks(|t| q.eval(t), (0.0, 1.0), &b, 3, 1e-9, 2000).unwrap();
+        assert_eq!(c.knots().multiplicity(0.4, 0.0), 3);
     }
 
     #[test]

@@ -51,7 +51,7 @@ pub use basis::{basis_funs, ders_basis_funs};
 pub use compose::BezierVolume;
 pub use curve::NurbsCurve;
 pub use error::{Error, Result};
-pub use fit::{fit_curve, greville, interpolate};
+pub use fit::{fit_curve, fit_curve_with_breaks, greville, interpolate, FitBreak};
 pub use knots::KnotVector;
 pub use project::{CurveProject, CurveProjection, CurveProjector, Projection, SurfaceProject};
 pub use reduce::KnotRemoval;
