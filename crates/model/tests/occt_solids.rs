@@ -64,6 +64,42 @@ fn box3() -> Ffd {
     f
 }
 
+/// The FFD for real files: a 3×3×3 lattice around the model's control points
+/// (5 % of the size beyond them), its centre node moved by 5 % of the diagonal.
+fn real_file_ffd(m: &Model) -> Ffd {
+    let size = m.size();
+    let b = cadmorph_nurbs::Aabb::from_points(m.patches().iter().flat_map(|p| p.surface.control_points())).unwrap();
+    let (lo, hi) = (b.min - Vector3::repeat(0.05 * size), b.max + Vector3::repeat(0.05 * size));
+    let mut f = Ffd::try_new([3, 3, 3], lo, hi - lo, Vector3::zeros()).unwrap();
+    let step = 0.05 * size / 3f64.sqrt();
+    f.mu_mut().set(1, 1, 1, [step / (hi.x - lo.x), step / (hi.y - lo.y), step / (hi.z - lo.z)]);
+    f
+}
+
+/// Morphs `m` (the sample `name`) by [`real_file_ffd`] with seam refinement at 1e-5 of
+/// its size and 0.01°, and checks that the refinement converges with fewer control
+/// points than PyGeM's 30-knot refinement of the same file and passes the seam check.
+/// Returns the tolerance.
+fn refine_below_pygem(name: &str, m: &mut Model) -> f64 {
+    let f = real_file_ffd(m);
+    let mut baseline = open(name);
+    baseline.morph(&f, &MorphOptions { uniform_knots: Some(30), ..Default::default() }).unwrap();
+    let pygem: usize = baseline.patches().iter().map(|p| p.surface.control_points().len()).sum();
+    let tol = 1e-5 * m.size();
+    let out =
+        m.morph(&f, &MorphOptions { refine: Some(SeamRefineOptions::new(tol, 0.01)), ..Default::default() }).unwrap();
+    let r = out.refinement.as_ref().unwrap();
+    println!(
+        "{name}: {} -> {} control points in {} rounds (PyGeM's 30 knots: {pygem})",
+        r.control_points_before, r.control_points_after, r.rounds
+    );
+    assert!(r.converged, "{name}: {r:?}");
+    assert!(r.control_points_after < pygem, "{name}: {} vs {pygem}", r.control_points_after);
+    let check = cadmorph_seam::SeamCheck::new(&out.seams_before, &out.seams_after, tol, 0.01);
+    assert_eq!(check.failed, 0, "{name}\n{}", out.seams_after.table());
+    tol
+}
+
 #[test]
 #[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
 fn morphed_and_repaired_solids_stay_valid_with_their_topology_and_creases() {
@@ -269,27 +305,7 @@ fn refined_shaft_keeps_its_tangent_edges_and_stays_valid() {
     let name = "shaft.igs";
     let input = edge_check(&sample(name));
     let mut m = open(name);
-    let size = m.size();
-    let b = cadmorph_nurbs::Aabb::from_points(m.patches().iter().flat_map(|p| p.surface.control_points())).unwrap();
-    let (lo, hi) = (b.min - Vector3::repeat(0.05 * size), b.max + Vector3::repeat(0.05 * size));
-    let mut f = Ffd::try_new([3, 3, 3], lo, hi - lo, Vector3::zeros()).unwrap();
-    let step = 0.05 * size / 3f64.sqrt();
-    f.mu_mut().set(1, 1, 1, [step / (hi.x - lo.x), step / (hi.y - lo.y), step / (hi.z - lo.z)]);
-    let mut baseline = open(name);
-    baseline.morph(&f, &MorphOptions { uniform_knots: Some(30), ..Default::default() }).unwrap();
-    let pygem: usize = baseline.patches().iter().map(|p| p.surface.control_points().len()).sum();
-    let tol = 1e-5 * size;
-    let out =
-        m.morph(&f, &MorphOptions { refine: Some(SeamRefineOptions::new(tol, 0.01)), ..Default::default() }).unwrap();
-    let r = out.refinement.as_ref().unwrap();
-    println!(
-        "{} -> {} control points in {} rounds (PyGeM's 30 knots: {pygem})",
-        r.control_points_before, r.control_points_after, r.rounds
-    );
-    assert!(r.converged, "{r:?}");
-    assert!(r.control_points_after < pygem, "{} vs {pygem}", r.control_points_after);
-    let check = cadmorph_seam::SeamCheck::new(&out.seams_before, &out.seams_after, tol, 0.01);
-    assert_eq!(check.failed, 0, "{}", out.seams_after.table());
+    let tol = refine_below_pygem(name, &mut m);
     let path = s.0.join(name);
     m.save(&path).unwrap();
     let c = edge_check(&path);
@@ -314,35 +330,8 @@ fn assemblies_with_repeated_parts_morph_each_placement_and_stay_valid() {
     // cadmorph-step's `unshare` tests cover their copies.)
     for name in ["assembly_ap203.stp", "mapped_item_root.stp"] {
         let input = edge_check(&sample(name));
-        let ffd = |m: &Model| {
-            let size = m.size();
-            let b =
-                cadmorph_nurbs::Aabb::from_points(m.patches().iter().flat_map(|p| p.surface.control_points())).unwrap();
-            let (lo, hi) = (b.min - Vector3::repeat(0.05 * size), b.max + Vector3::repeat(0.05 * size));
-            let mut f = Ffd::try_new([3, 3, 3], lo, hi - lo, Vector3::zeros()).unwrap();
-            let step = 0.05 * size / 3f64.sqrt();
-            f.mu_mut().set(1, 1, 1, [step / (hi.x - lo.x), step / (hi.y - lo.y), step / (hi.z - lo.z)]);
-            f
-        };
-        let mut baseline = open(name);
-        let f = ffd(&baseline);
-        baseline.morph(&f, &MorphOptions { uniform_knots: Some(30), ..Default::default() }).unwrap();
-        let pygem: usize = baseline.patches().iter().map(|p| p.surface.control_points().len()).sum();
         let mut m = open(name);
-        let size = m.size();
-        let tol = 1e-5 * size;
-        let out = m
-            .morph(&f, &MorphOptions { refine: Some(SeamRefineOptions::new(tol, 0.01)), ..Default::default() })
-            .unwrap();
-        let r = out.refinement.as_ref().unwrap();
-        println!(
-            "{name}: {} -> {} control points in {} rounds (PyGeM's 30 knots: {pygem})",
-            r.control_points_before, r.control_points_after, r.rounds
-        );
-        assert!(r.converged, "{name}: {r:?}");
-        assert!(r.control_points_after < pygem, "{name}: {} vs {pygem}", r.control_points_after);
-        let check = cadmorph_seam::SeamCheck::new(&out.seams_before, &out.seams_after, tol, 0.01);
-        assert_eq!(check.failed, 0, "{name}\n{}", out.seams_after.table());
+        let tol = refine_below_pygem(name, &mut m);
         let path = s.0.join(name);
         m.save(&path).unwrap();
         let c = edge_check(&path);
