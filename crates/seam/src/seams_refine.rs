@@ -206,9 +206,9 @@ pub fn refine_seams<D: Deformation + ?Sized>(
 /// knot spans holding that point are bisected on each side that takes more than its half
 /// (`tol / 2`, `angle_tol_deg / 2`): in both directions for a distance, in the directions
 /// whose derivatives fall short for a normal. Creases between iso edges are held the
-/// same way. The gap the edge had
-/// before then grows by at most `tol`, and its angle (smooth join or crease) changes as
-/// the exact morph changes it, within `angle_tol_deg`.
+/// same way. The gap the edge had before then grows by at most `tol`, and its angle
+/// (smooth join or crease) changes as the exact morph changes it, within
+/// `angle_tol_deg`.
 pub fn refine_edges<D: Deformation + ?Sized>(
     patches: &mut [NurbsSurface],
     edges: &[SharedBoundary],
