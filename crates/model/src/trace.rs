@@ -154,12 +154,13 @@ pub(crate) fn follow_face(
     // the fit there with that continuity, so a trim stays C1 across the simple knots of a
     // quadratic face instead of gaining a C0 point where readers split it into edges.
     let mut breaks = Vec::new();
-    let smoothness = |knots: &cadmorph_nurbs::KnotVector, degree: usize, a: f64, b: f64| -> usize {
+    // The face's distinct knots in each direction, read once for every crossing.
+    let (u_knots, v_knots) = (after.u_knots().distinct(), after.v_knots().distinct());
+    let smoothness = |(values, mults): &(Vec<f64>, Vec<usize>), degree: usize, a: f64, b: f64| -> usize {
         let (lo, hi) = (a.min(b), a.max(b));
-        let (values, mults) = knots.distinct();
         values
             .iter()
-            .zip(&mults)
+            .zip(mults)
             .filter(|(k, _)| **k > lo && **k <= hi)
             .map(|(_, m)| degree.saturating_sub(*m))
             .min()
@@ -184,8 +185,8 @@ pub(crate) fn follow_face(
                 far = at;
             }
         }
-        let continuity = smoothness(after.u_knots(), after.u_degree(), near.0, far.0).min(smoothness(
-            after.v_knots(),
+        let continuity = smoothness(&u_knots, after.u_degree(), near.0, far.0).min(smoothness(
+            &v_knots,
             after.v_degree(),
             near.1,
             far.1,

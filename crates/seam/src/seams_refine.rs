@@ -342,7 +342,7 @@ pub fn refine_edges<D: Deformation + ?Sized>(
             let n = 8 * [e.a, e.b].iter().map(|&p| ubreaks[p].len() + vbreaks[p].len()).sum::<usize>() + 1;
             let sides = [e.on_surface(&patches[e.a], n), e.on_surface(&patches[e.b], n)];
             for k in 0..n {
-                let mut each = [(0.0, 0.0); 2];
+                let mut each = [(0.0, 0.0, 0.0); 2];
                 for (side, patch) in [e.a, e.b].into_iter().enumerate() {
                     let of = sides[side][k].2;
                     let err = (moved[patch].eval(of.u, of.v) - d.deform_point(&of.point)).norm();
@@ -354,7 +354,7 @@ pub fn refine_edges<D: Deformation + ?Sized>(
                         (Some(x), Some(y)) => x.cross(&y).norm().atan2(x.dot(&y)).to_degrees(),
                         _ => 0.0,
                     };
-                    each[side] = (if err.is_nan() { f64::INFINITY } else { err }, dev);
+                    each[side] = (if err.is_nan() { f64::INFINITY } else { err }, dev, h);
                 }
                 let gap = each[0].0 + each[1].0;
                 let angle = each[0].1 + each[1].1;
@@ -363,7 +363,7 @@ pub fn refine_edges<D: Deformation + ?Sized>(
                 // nor does a side off by more when the other makes up for it.
                 let (far, turned) = (gap > opts.tol, angle > opts.angle_tol_deg);
                 for (side, patch) in [e.a, e.b].into_iter().enumerate() {
-                    let (err, dev) = each[side];
+                    let (err, dev, h) = each[side];
                     let off = far && err > opts.tol / 2.0;
                     if off || (turned && dev > opts.angle_tol_deg / 2.0) {
                         let of = sides[side][k].2;
@@ -372,7 +372,6 @@ pub fn refine_edges<D: Deformation + ?Sized>(
                         let dirs = if off {
                             (true, true)
                         } else {
-                            let h = 1e-6 * (1.0 + of.point.coords.norm());
                             short_directions(&patches[patch], &moved[patch], d, of.u, of.v, h)
                         };
                         marks.at(patch, span_of(&ubreaks[patch], of.u), span_of(&vbreaks[patch], of.v), dirs);
