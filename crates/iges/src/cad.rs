@@ -316,6 +316,14 @@ impl CadDocument for Document {
         self.set_control_points(de(f.entity)?, c.control_points(), c.weights()).map_err(err)
     }
 
+    fn unshare(&mut self, moved: &[EntityRef]) -> cadmorph_brep::Result<usize> {
+        let mut set = std::collections::HashSet::with_capacity(moved.len());
+        for &e in moved {
+            set.insert(de(e)?);
+        }
+        self.unshare_subfigures(&set).map_err(err)
+    }
+
     fn to_bytes(&self) -> Vec<u8> {
         self.write()
     }

@@ -159,6 +159,9 @@ pub struct Entity {
     pub(crate) new_lines: Option<Vec<Vec<u8>>>,
     /// Directory fields 1, 11 or 15 changed by an edit.
     pub(crate) directory_changed: bool,
+    /// For an entity an edit appended (a copy, see `Document::unshare_subfigures`): the
+    /// index of the entity as read whose directory lines it is written from.
+    pub(crate) template: Option<usize>,
 }
 
 impl Entity {

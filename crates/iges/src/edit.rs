@@ -105,6 +105,29 @@ impl Document {
         if !form_changes && ty == e.entity_type() && same(&e.values(), &values) {
             return Ok(false);
         }
+        self.write_record(k, ty, values, form)?;
+        Ok(true)
+    }
+
+    /// [`set_values`](Self::set_values) without its form; with `force`, the record is
+    /// rewritten even when the values are the current ones (a fresh copy's record).
+    pub(crate) fn write_values(&mut self, id: EntityId, values: Vec<Value>, force: bool) -> Result<()> {
+        if !force {
+            return self.set_values(id, values, None).map(|_| ());
+        }
+        let k = self.index_of(id)?;
+        let ty = match values.first() {
+            Some(Value::Integer(t)) => u32::try_from(*t).map_err(|_| edit_err(id, "negative entity type"))?,
+            _ => return Err(edit_err(id, "the first value must be the entity type")),
+        };
+        check_finite(id, &values)?;
+        self.write_record(k, ty, values, None)
+    }
+
+    /// Lays out and stores entity `k`'s new record (type `ty`, form `form` if given).
+    fn write_record(&mut self, k: usize, ty: u32, values: Vec<Value>, form: Option<i64>) -> Result<()> {
+        let id = self.entities[k].id;
+        let form_changes = form.is_some_and(|f| f != self.entities[k].form());
         let (pd, rd) = (self.global.parameter_delimiter, self.global.record_delimiter);
         let lines = layout_record(&values, pd, rd, P_WIDTH);
         let mut text = Vec::with_capacity(lines.len() * P_WIDTH);
@@ -129,7 +152,7 @@ impl Document {
         e.new_lines = Some(lines);
         e.p_line = 0;
         self.edited = true;
-        Ok(true)
+        Ok(())
     }
 
     /// Maps model-space points back to the entity's definition space; a point equal (bit

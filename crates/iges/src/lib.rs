@@ -82,6 +82,7 @@ pub mod entity;
 mod error;
 mod global;
 mod read;
+mod unshare;
 pub mod write;
 
 pub use bounds::FaceBound;

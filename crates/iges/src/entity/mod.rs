@@ -32,11 +32,14 @@ pub(crate) struct Cursor<'a> {
     doc: &'a Document,
     e: &'a Entity,
     i: usize,
+    /// When kept, the index of every parameter read as a pointer (see
+    /// [`Document::pointer_slots`]).
+    slots: Option<Vec<usize>>,
 }
 
 impl<'a> Cursor<'a> {
     pub(crate) fn new(doc: &'a Document, e: &'a Entity) -> Self {
-        Self { doc, e, i: 1 }
+        Self { doc, e, i: 1, slots: None }
     }
 
     fn next(&mut self) -> Option<Param<'a>> {
@@ -117,6 +120,9 @@ impl<'a> Cursor<'a> {
     pub(crate) fn pointer(&mut self, what: &'static str) -> Result<Option<EntityId>> {
         let i = self.i;
         let v = self.int(what)?;
+        if let Some(s) = &mut self.slots {
+            s.push(i);
+        }
         if v == 0 {
             return Ok(None);
         }
@@ -309,46 +315,73 @@ impl Document {
     /// ```
     pub fn view(&self, id: EntityId) -> Result<View> {
         let e = self.entity(id)?;
+        self.read_view(&mut Cursor::new(self, e))
+    }
+
+    /// Where entity `id`'s typed view reads pointers: the indices in
+    /// [`Entity::params`] (the entity type at 0) of those parameters, and the index after
+    /// the last parameter the view reads (where the additional pointer groups of IGES
+    /// 5.3 §2.2.4.5.2 start). `None` for an entity type without a view, whose pointers
+    /// are not known.
+    ///
+    /// # Errors
+    ///
+    /// Those of [`view`](Self::view).
+    pub(crate) fn pointer_slots(&self, id: EntityId) -> Result<Option<(Vec<usize>, usize)>> {
+        let e = self.entity(id)?;
+        if !is_known_type(e.entity_type()) {
+            return Ok(None);
+        }
         let mut c = Cursor::new(self, e);
+        c.slots = Some(Vec::new());
+        if let View::Unknown { .. } = self.read_view(&mut c)? {
+            return Ok(None);
+        }
+        Ok(Some((c.slots.take().unwrap_or_default(), c.i.min(e.param_count()))))
+    }
+
+    /// The typed view read through `c`.
+    fn read_view(&self, c: &mut Cursor<'_>) -> Result<View> {
+        let e = c.e;
         let form = e.form();
         Ok(match e.entity_type() {
-            100 => View::CircularArc(CircularArc::read(&mut c)?),
-            102 => View::CompositeCurve(CompositeCurve::read(&mut c)?),
-            104 => View::ConicArc(ConicArc::read(&mut c, form)?),
-            106 => View::CopiousData(CopiousData::read(&mut c, form)?),
-            108 => View::Plane(Plane::read(&mut c, form)?),
-            110 => View::Line(Line::read(&mut c, form)?),
-            112 => View::ParametricSplineCurve(ParametricSplineCurve::read(&mut c)?),
-            114 => View::ParametricSplineSurface(ParametricSplineSurface::read(&mut c)?),
-            116 => View::Point(Point::read(&mut c)?),
-            118 => View::RuledSurface(RuledSurface::read(&mut c, form)?),
-            120 => View::SurfaceOfRevolution(SurfaceOfRevolution::read(&mut c)?),
-            122 => View::TabulatedCylinder(TabulatedCylinder::read(&mut c)?),
-            123 => View::Direction(Direction::read(&mut c)?),
-            124 => View::TransformationMatrix(TransformationMatrix::read(&mut c, form)?),
-            126 => View::BSplineCurve(BSplineCurve::read(&mut c, form)?),
-            128 => View::BSplineSurface(BSplineSurface::read(&mut c, form)?),
-            140 => View::OffsetSurface(OffsetSurface::read(&mut c)?),
-            141 => View::Boundary(Boundary::read(&mut c)?),
-            142 => View::CurveOnSurface(CurveOnSurface::read(&mut c)?),
-            143 => View::BoundedSurface(BoundedSurface::read(&mut c)?),
-            144 => View::TrimmedSurface(TrimmedSurface::read(&mut c)?),
-            186 => View::ManifoldSolid(ManifoldSolid::read(&mut c)?),
-            190 => View::PlaneSurface(PlaneSurface::read(&mut c, form)?),
-            192 => View::CylindricalSurface(CylindricalSurface::read(&mut c, form)?),
-            194 => View::ConicalSurface(ConicalSurface::read(&mut c, form)?),
-            196 => View::SphericalSurface(SphericalSurface::read(&mut c, form)?),
-            198 => View::ToroidalSurface(ToroidalSurface::read(&mut c, form)?),
-            308 => View::SubfigureDefinition(SubfigureDefinition::read(&mut c)?),
-            314 => View::Color(Color::read(&mut c)?),
-            402 => View::Associativity(Associativity::read(&mut c, form)?),
-            406 => View::Property(Property::read(&mut c, form)?),
-            408 => View::SubfigureInstance(SubfigureInstance::read(&mut c)?),
-            502 => View::VertexList(VertexList::read(&mut c)?),
-            504 => View::EdgeList(EdgeList::read(&mut c)?),
-            508 => View::Loop(Loop::read(&mut c)?),
-            510 => View::Face(Face::read(&mut c)?),
-            514 => View::Shell(Shell::read(&mut c)?),
+            100 => View::CircularArc(CircularArc::read(c)?),
+            102 => View::CompositeCurve(CompositeCurve::read(c)?),
+            104 => View::ConicArc(ConicArc::read(c, form)?),
+            106 => View::CopiousData(CopiousData::read(c, form)?),
+            108 => View::Plane(Plane::read(c, form)?),
+            110 => View::Line(Line::read(c, form)?),
+            112 => View::ParametricSplineCurve(ParametricSplineCurve::read(c)?),
+            114 => View::ParametricSplineSurface(ParametricSplineSurface::read(c)?),
+            116 => View::Point(Point::read(c)?),
+            118 => View::RuledSurface(RuledSurface::read(c, form)?),
+            120 => View::SurfaceOfRevolution(SurfaceOfRevolution::read(c)?),
+            122 => View::TabulatedCylinder(TabulatedCylinder::read(c)?),
+            123 => View::Direction(Direction::read(c)?),
+            124 => View::TransformationMatrix(TransformationMatrix::read(c, form)?),
+            126 => View::BSplineCurve(BSplineCurve::read(c, form)?),
+            128 => View::BSplineSurface(BSplineSurface::read(c, form)?),
+            140 => View::OffsetSurface(OffsetSurface::read(c)?),
+            141 => View::Boundary(Boundary::read(c)?),
+            142 => View::CurveOnSurface(CurveOnSurface::read(c)?),
+            143 => View::BoundedSurface(BoundedSurface::read(c)?),
+            144 => View::TrimmedSurface(TrimmedSurface::read(c)?),
+            186 => View::ManifoldSolid(ManifoldSolid::read(c)?),
+            190 => View::PlaneSurface(PlaneSurface::read(c, form)?),
+            192 => View::CylindricalSurface(CylindricalSurface::read(c, form)?),
+            194 => View::ConicalSurface(ConicalSurface::read(c, form)?),
+            196 => View::SphericalSurface(SphericalSurface::read(c, form)?),
+            198 => View::ToroidalSurface(ToroidalSurface::read(c, form)?),
+            308 => View::SubfigureDefinition(SubfigureDefinition::read(c)?),
+            314 => View::Color(Color::read(c)?),
+            402 => View::Associativity(Associativity::read(c, form)?),
+            406 => View::Property(Property::read(c, form)?),
+            408 => View::SubfigureInstance(SubfigureInstance::read(c)?),
+            502 => View::VertexList(VertexList::read(c)?),
+            504 => View::EdgeList(EdgeList::read(c)?),
+            508 => View::Loop(Loop::read(c)?),
+            510 => View::Face(Face::read(c)?),
+            514 => View::Shell(Shell::read(c)?),
             t => View::Unknown { entity_type: t, form },
         })
     }

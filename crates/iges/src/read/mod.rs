@@ -449,6 +449,7 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
             d_line: la + 1,
             new_lines: None,
             directory_changed: false,
+            template: None,
         })
     };
     let entities: Vec<Entity> = {

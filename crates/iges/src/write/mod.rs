@@ -195,6 +195,30 @@ fn write_edited(doc: &Document) -> Vec<u8> {
 
     // D section.
     for (k, e) in doc.entities.iter().enumerate() {
+        if let Some(t) = e.template {
+            // An appended copy: the lines of the entity it copies, with its own P
+            // pointer, line count, type and form, and sequence numbers.
+            let lt = layout.directory.start + 2 * t;
+            for (half, li) in [(0, lt), (1, lt + 1)] {
+                let mut line = doc.line_bytes(li).to_vec();
+                if line.len() < 80 {
+                    line.resize(80, b' ');
+                }
+                if half == 0 {
+                    patch_field(&mut line, 0, i64::from(e.directory.entity_type));
+                    patch_field(&mut line, 1, new_first[k] as i64 + 1);
+                } else {
+                    patch_field(&mut line, 0, i64::from(e.directory.entity_type));
+                    patch_field(&mut line, 3, new_count[k] as i64);
+                    patch_field(&mut line, 4, e.directory.form);
+                }
+                line[72] = b'D';
+                line[73..80].copy_from_slice(seq(2 * k + 1 + half, doc.zero_padded).as_bytes());
+                out.extend_from_slice(&line);
+                out.extend_from_slice(&eol);
+            }
+            continue;
+        }
         let la = layout.directory.start + 2 * k;
         let moved = new_first[k] != e.p_first || new_count[k] != e.p_count;
         if !moved && !e.directory_changed {
@@ -267,8 +291,13 @@ fn write_edited(doc: &Document) -> Vec<u8> {
                         }
                     }
                     Some(new) => {
-                        let first = doc.line_bytes(p0 + e.p_first);
-                        let back = first[64..72].to_vec();
+                        let back = if e.template.is_some() {
+                            let mut b = Vec::with_capacity(8);
+                            put_number(&mut b, e.id.0 as usize, 8, doc.zero_padded);
+                            b
+                        } else {
+                            doc.line_bytes(p0 + e.p_first)[64..72].to_vec()
+                        };
                         for body in new {
                             let mut tail = back.clone();
                             tail.push(b'P');
@@ -282,16 +311,21 @@ fn write_edited(doc: &Document) -> Vec<u8> {
         }
     }
 
-    // T record: patch the P count.
+    // T record: patch the D and P counts.
     let t = layout.terminate;
     let old_p = layout.parameter.len();
-    if p_total == old_p {
+    let d_total = 2 * doc.entities.len();
+    if p_total == old_p && d_total == layout.directory.len() {
         out.extend_from_slice(doc.line_with_eol(t));
     } else {
         let mut line = doc.line_bytes(t).to_vec();
         let s = seq(p_total, doc.zero_padded);
         if line.len() >= 32 && line[24] == b'P' && s.len() == 7 {
             line[25..32].copy_from_slice(s.as_bytes());
+        }
+        let s = seq(d_total, doc.zero_padded);
+        if line.len() >= 24 && line[16] == b'D' && s.len() == 7 {
+            line[17..24].copy_from_slice(s.as_bytes());
         }
         out.extend_from_slice(&line);
         out.extend_from_slice(&doc.src.bytes[doc.src.lines[t].end..doc.src.lines[t].next]);

@@ -12,6 +12,8 @@
 //! `01` or `03`, §2.2.4.4.9: it exists only as part of its parents), and nothing that is
 //! kept points to it any more; the entities it pointed to are then considered in turn.
 //! Independent entities are never touched, nor anything the input itself left unused.
+//! Copies an edit appended (`Document::unshare_subfigures`) have no input to respect: a
+//! dependent copy nothing kept points to is an orphan.
 //! "Points to" is counted generously: every integer parameter of a record that is a DE
 //! number counts as a pointer, as do the directory's pointer fields, so that no entity a
 //! record might reference (through back-pointer groups, properties, or entity types
@@ -152,7 +154,8 @@ impl Document {
         }
         // The input as read: the old records of the rewritten entities.
         let Ok(original) = Document::parse(&self.src.bytes) else { return out };
-        if original.entities.len() != self.entities.len() {
+        // Entities appended by an edit (copies) come after those read.
+        if original.entities.len() > self.entities.len() {
             return out;
         }
         let n = self.entities.len();
@@ -177,6 +180,9 @@ impl Document {
                 }
             }
         }
+        // Copies an edit appended have no input to respect: any that nothing kept points
+        // to any more is an orphan.
+        work.extend((original.entities.len()..n).filter(|&k| self.entities[k].template.is_some()));
         while let Some(j) = work.pop() {
             if out.contains(&j) || count[j] != 0 || !dependent(j) {
                 continue;

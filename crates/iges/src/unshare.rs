@@ -1,0 +1,196 @@
+//! Copies of subfigure definitions, so that a part placed several times can be moved a
+//! different way at each place.
+//!
+//! A 308 subfigure definition (IGES 5.3 §4.74) placed by several 408 singular subfigure
+//! instances (§4.137) holds one set of surfaces for all its places: a morph that moves
+//! the places differently cannot be written into it. [`Document::unshare_subfigures`]
+//! gives every instance after the first its own copy of the definition: the definition
+//! and every entity its records reach through pointers (groups, faces, surfaces, trims,
+//! curves, B-rep topology), appended after the entities read, with the pointers between
+//! them renumbered to the copies. Transformation matrices (124), colours (314) and
+//! properties (406) stay shared, as do nested definitions: a nested 408 copied with its
+//! container points to the same nested 308, which is then instanced once more and is
+//! copied in its turn. Entity types without a typed view (whose pointers are not known)
+//! are shared, never copied.
+//!
+//! The copies are written by the document's own writer: directory entries after those
+//! read, from the original's directory lines with their own parameter pointer, line
+//! count and sequence numbers; parameter records after those read.
+
+use std::collections::{BTreeMap, HashMap, HashSet};
+
+use crate::document::{Document, EntityId, PBlock, Value};
+use crate::entity::View;
+use crate::{Error, Result};
+
+/// Entity types a copy shares with the original: the morph rewrites none of them.
+const SHARED_TYPES: [u32; 4] = [0, 124, 314, 406];
+
+impl Document {
+    /// Gives each 408 instance of a 308 definition that holds one of the `moved` faces
+    /// (144, 143, 510 or bare surface entities, anywhere below the definition, nested
+    /// instances included) its own copy of the definition, the first instance keeping
+    /// the original; returns the number of definitions copied (0 leaves the document
+    /// untouched). Unlike STEP's [`unshare`](crate::Document::unshare) per occurrence,
+    /// all the instances of such a definition get copies, moved or not: an IGES face's
+    /// occurrence is not tied back to one 408 chain.
+    ///
+    /// Afterwards [`faces`](Self::faces) lists as many faces at the same places in the
+    /// same order; those of the copies are new entities.
+    ///
+    /// # Errors
+    ///
+    /// The read errors of the records copied; [`Error::Subfigure`] when the copies would
+    /// grow the file past 16 times its entities (and at least 100000): definitions
+    /// nested and instanced beyond reason.
+    pub fn unshare_subfigures(&mut self, moved: &HashSet<EntityId>) -> Result<usize> {
+        let limit = (self.entities.len() * 16).max(100_000);
+        // The copies of moved faces are moved faces too (a copied container's nested
+        // definitions are instanced twice in their turn).
+        let mut moved = moved.clone();
+        let mut copies = 0;
+        loop {
+            // The 408 instances of each 308, in entity order.
+            let mut instances: BTreeMap<EntityId, Vec<EntityId>> = BTreeMap::new();
+            for e in self.entities.iter().filter(|e| e.entity_type() == 408) {
+                if let Ok(View::SubfigureInstance(i)) = self.view(e.id()) {
+                    instances.entry(i.definition).or_default().push(e.id());
+                }
+            }
+            let Some((def, insts)) =
+                instances.into_iter().find(|(d, insts)| insts.len() > 1 && self.holds_any(*d, &moved))
+            else {
+                return Ok(copies);
+            };
+            for inst in &insts[1..] {
+                let map = self.copy_closure(def)?;
+                moved
+                    .extend(map.iter().filter(|(old, _)| moved.contains(old)).map(|(_, new)| *new).collect::<Vec<_>>());
+                self.repoint(*inst, &HashMap::from([(def, map[&def])]))?;
+                copies += 1;
+                if self.entities.len() > limit {
+                    return Err(Error::Subfigure {
+                        de: def.0,
+                        reason: format!(
+                            "copying its instances would pass {limit} entities (definitions nested and instanced beyond reason)"
+                        ),
+                    });
+                }
+            }
+        }
+    }
+
+    /// The entities entity `id`'s record points to (its typed view's pointers; none for
+    /// types without one).
+    fn pointees(&self, id: EntityId) -> Result<Vec<EntityId>> {
+        let Some((slots, _)) = self.pointer_slots(id)? else { return Ok(Vec::new()) };
+        let e = self.entity(id)?;
+        Ok(slots
+            .iter()
+            .filter_map(|&i| e.param(i)?.as_integer())
+            .filter(|&v| v != 0)
+            .map(|v| EntityId(v.unsigned_abs() as u32))
+            .collect())
+    }
+
+    /// Whether any of `moved` is reachable from `root` through pointers.
+    fn holds_any(&self, root: EntityId, moved: &HashSet<EntityId>) -> bool {
+        let mut seen = HashSet::from([root]);
+        let mut work = vec![root];
+        while let Some(id) = work.pop() {
+            if moved.contains(&id) {
+                return true;
+            }
+            for p in self.pointees(id).unwrap_or_default() {
+                if seen.insert(p) {
+                    work.push(p);
+                }
+            }
+        }
+        false
+    }
+
+    /// Appends a copy of `root` and of everything its records reach (but the shared
+    /// types, entities without a view, and the definitions nested 408s place), pointers
+    /// among them renumbered; returns each copied entity's copy.
+    fn copy_closure(&mut self, root: EntityId) -> Result<HashMap<EntityId, EntityId>> {
+        let mut order = vec![root];
+        let mut seen = HashSet::from([root]);
+        let mut k = 0;
+        while k < order.len() {
+            let id = order[k];
+            k += 1;
+            if self.entity(id)?.entity_type() == 408 {
+                continue;
+            }
+            for p in self.pointees(id)? {
+                let Ok(e) = self.entity(p) else { continue };
+                let t = e.entity_type();
+                if SHARED_TYPES.contains(&t) || !crate::entity::is_known_type(t) {
+                    continue;
+                }
+                if seen.insert(p) {
+                    order.push(p);
+                }
+            }
+        }
+        let first_new = self.entities.len();
+        let map: HashMap<EntityId, EntityId> =
+            order.iter().enumerate().map(|(j, &id)| (id, EntityId::from_index(first_new + j))).collect();
+        for &id in &order {
+            let k = self.index_of(id)?;
+            let mut e = self.entities[k].clone();
+            e.id = map[&id];
+            e.template = Some(e.template.unwrap_or(k));
+            e.d_line = 0;
+            self.entities.push(e);
+            self.p_blocks.push(PBlock::Entity(self.entities.len() - 1));
+        }
+        for &id in &order {
+            self.repoint_as(id, map[&id], &map)?;
+        }
+        Ok(map)
+    }
+
+    /// Rewrites entity `id`'s pointers (those of its typed view and of its additional
+    /// pointer groups) through `map`.
+    fn repoint(&mut self, id: EntityId, map: &HashMap<EntityId, EntityId>) -> Result<()> {
+        self.repoint_as(id, id, map)
+    }
+
+    /// Writes `target`'s record as `source`'s values with their pointers mapped by `map`
+    /// (`target` is `source` or its fresh copy, which is always written).
+    fn repoint_as(&mut self, source: EntityId, target: EntityId, map: &HashMap<EntityId, EntityId>) -> Result<()> {
+        let Some((slots, end)) = self.pointer_slots(source)? else { return Ok(()) };
+        let mut values = self.entity(source)?.values();
+        let remap = |v: &mut Value| {
+            if let Value::Integer(n) = v {
+                if let Some(to) = u32::try_from(n.unsigned_abs()).ok().and_then(|a| map.get(&EntityId(a))) {
+                    *n = n.signum() * i64::from(to.0);
+                }
+            }
+        };
+        for &i in &slots {
+            if let Some(v) = values.get_mut(i) {
+                remap(v);
+            }
+        }
+        // §2.2.4.5.2: NV associativity pointers, then NP property pointers.
+        let mut i = end;
+        for _ in 0..2 {
+            let Some(n) =
+                values.get(i).and_then(|v| if let Value::Integer(n) = v { usize::try_from(*n).ok() } else { None })
+            else {
+                break;
+            };
+            if i + 1 + n > values.len() {
+                break;
+            }
+            for v in &mut values[i + 1..i + 1 + n] {
+                remap(v);
+            }
+            i += 1 + n;
+        }
+        self.write_values(target, values, source != target)
+    }
+}

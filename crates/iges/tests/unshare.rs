@@ -1,0 +1,83 @@
+//! `Document::unshare_subfigures`: a 308 definition placed by several 408 instances gets a
+//! copy per instance, nested definitions included, so that no surface entity serves two
+//! placements; every placed face stays where it was, the file reads back the same, and a
+//! document without moved faces is left untouched.
+
+use std::collections::{HashMap, HashSet};
+
+use cadmorph_iges::{Document, EntityId, FaceRef};
+use cadmorph_nurbs::Surface;
+use cadmorph_testkit::sample;
+
+fn read(name: &str) -> (Vec<u8>, Document) {
+    let bytes = std::fs::read(sample(name)).unwrap();
+    let doc = Document::parse(&bytes).unwrap();
+    (bytes, doc)
+}
+
+/// Every placed face's model-space surface, evaluated on a 5 × 5 grid.
+fn placed_points(doc: &Document, faces: &[FaceRef]) -> Vec<Vec<[f64; 3]>> {
+    faces
+        .iter()
+        .map(|f| {
+            let s = doc.face_surface(f).unwrap().surface;
+            cadmorph_testkit::grid(&s, 5)
+                .into_iter()
+                .map(|(u, v)| {
+                    let p = s.eval(u, v);
+                    [p.x, p.y, p.z]
+                })
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn every_instance_gets_its_own_copy_and_every_face_stays_in_place() {
+    let (_, mut doc) = read("subfigure.igs");
+    let before = doc.try_faces().unwrap();
+    assert_eq!(before.len(), 28);
+    let points = placed_points(&doc, &before);
+    let n_read = doc.len();
+    let moved: HashSet<EntityId> = before.iter().map(|f| f.face).collect();
+    // PART's two instances inside PAIR (one copy), PAIR's two instances (one copy, whose
+    // nested instances place PART and PART's copy again: two more copies).
+    assert_eq!(doc.unshare_subfigures(&moved).unwrap(), 4);
+    assert!(doc.len() > n_read);
+    let after = doc.try_faces().unwrap();
+    assert_eq!(after.len(), before.len());
+    assert_eq!(placed_points(&doc, &after), points, "a placed face moved");
+    // No surface serves two placements any more; the faces of the first placement are
+    // the original entities.
+    let mut by_surface: HashMap<EntityId, usize> = HashMap::new();
+    for f in &after {
+        *by_surface.entry(f.surface).or_default() += 1;
+        assert_eq!(f.occurrence, 0, "face DE {} is still placed more than once", f.face.0);
+    }
+    assert!(by_surface.values().all(|&n| n == 1));
+    assert!(after.iter().filter(|f| f.face.0 as usize <= 2 * n_read).count() >= 7);
+    // Written and read again: the same entities, faces and places.
+    let again = Document::parse(&doc.write()).unwrap();
+    assert_eq!(again.len(), doc.len());
+    let faces_again = again.try_faces().unwrap();
+    assert_eq!(faces_again, after);
+    assert_eq!(placed_points(&again, &faces_again), points);
+    // Once unshared, nothing is left to copy.
+    let mut again = again;
+    assert_eq!(again.unshare_subfigures(&faces_again.iter().map(|f| f.face).collect()).unwrap(), 0);
+}
+
+#[test]
+fn no_moved_face_no_copy_and_the_file_is_unchanged() {
+    for name in ["subfigure.igs", "subfigure_uninstanced.igs", "hull3.igs"] {
+        let (bytes, mut doc) = read(name);
+        assert_eq!(doc.unshare_subfigures(&HashSet::new()).unwrap(), 0, "{name}");
+        assert!(doc.write() == bytes, "{name}");
+        // A definition instanced once (or not at all) needs no copy either.
+        if name != "subfigure.igs" {
+            let all: HashSet<EntityId> = doc.try_faces().unwrap().iter().map(|f| f.face).collect();
+            assert_eq!(doc.unshare_subfigures(&all).unwrap(), 0, "{name}");
+            assert!(doc.write() == bytes, "{name}");
+        }
+    }
+}
