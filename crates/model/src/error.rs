@@ -106,14 +106,15 @@ pub enum Error {
     #[error("{0}")]
     Unsupported(&'static str),
     /// A surface that two faces of the model use (one part placed twice) where the
-    /// document cannot give the placements copies of the part (IGES 408 subfigure
-    /// instances; STEP assemblies and mapped items get copies, see
-    /// `CadDocument::unshare`): a morph moves the two placements differently, which one
-    /// surface cannot hold.
+    /// document could not give the placements copies of the part (STEP assemblies and
+    /// mapped items, IGES 408 subfigure instances get copies, see
+    /// `CadDocument::unshare`; a surface shared some other way, or reached through
+    /// entities without a typed view, does not): a morph moves the two placements
+    /// differently, which one surface cannot hold.
     #[error(
         "surface {surface} is used by face {first} and face {second} (one part placed more than once): a morph \
-         would move each placement differently, and this file's placements cannot be given their own copies of \
-         the part (IGES subfigure instances); nothing was changed"
+         would move each placement differently, and the placements could not be given their own copies of the \
+         part; nothing was changed"
     )]
     SharedSurface {
         /// The surface entity.

@@ -154,15 +154,16 @@ impl<D: CadDocument> Model<D> {
     /// moves nothing leaves the document byte-identical.
     ///
     /// A part placed more than once (a STEP assembly's repeated component, a mapped
-    /// representation) first gets its own copy for each placement holding a face the
-    /// morph moves ([`CadDocument::unshare`]), so each placement moves its own way;
-    /// placements that do not move keep sharing the original.
+    /// representation, an IGES subfigure definition) first gets its own copy for each
+    /// placement holding a face the morph moves ([`CadDocument::unshare`]), so each
+    /// placement moves its own way; STEP placements that do not move keep sharing the
+    /// original (IGES copies every instance of such a definition).
     ///
     /// # Errors
     ///
     /// [`Error::NonFinite`] or [`Error::Folded`] before anything is changed;
     /// [`Error::SharedSurface`] for a moved part placed more than once that the document
-    /// cannot copy (IGES subfigure instances); the document's errors.
+    /// could not copy; the document's errors.
     pub fn morph(&mut self, d: &dyn Deformation, opts: &MorphOptions) -> Result<MorphOutcome> {
         self.morph_with_progress(d, opts, &Silent)
     }
