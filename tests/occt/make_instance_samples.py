@@ -45,6 +45,11 @@ SHAPE_DEFINITION_REPRESENTATION is pointed at the new top representation.
   subfigure_uninstanced.igs
       The plate's 308 `PART` alone, instanced by no 408: OCCT reads it (a root of the
       reference graph) as 7 unplaced faces.
+  subfigure_brep.igs
+      The plate as OCCT's IGES B-rep (write.iges.brep.mode 1: a 402 group holding a 186
+      manifold solid of 514 shell, 510 faces, 508 loops, 504 edges, 502 vertices) as the
+      content of a 308 `PART` placed by two 408s (one with a 124 rotation and translation,
+      one translated): 14 faces.
 
 The OCCT references (F.ref.json) are made afterwards with `occt_ref.py regen`, the seam
 references with `topo_check.py`.
@@ -209,12 +214,12 @@ def _instance(definition, move, scale=None, trsf=None):
     return i
 
 
-def write_subfigures(path, instanced=True):
+def write_subfigures(path, instanced=True, brep=False):
     IGESControl_Controller.Init_s()
     Interface_Static.SetCVal_s("write.iges.header.author", "occref")
     Interface_Static.SetCVal_s("write.iges.header.company", "occref")
-    Interface_Static.SetIVal_s("write.iges.brep.mode", 0)
-    w = IGESControl_Writer("MM", 0)
+    Interface_Static.SetIVal_s("write.iges.brep.mode", 1 if brep else 0)
+    w = IGESControl_Writer("MM", 1 if brep else 0)
     gs = w.Model().GlobalSection()
     gs.SetAuthorName(TCollection_HAsciiString("occref"))
     gs.SetCompanyName(TCollection_HAsciiString("occref"))
@@ -225,7 +230,11 @@ def write_subfigures(path, instanced=True):
     assert len(groups) == 1, "OCCT writes the plate's faces as one 402 group"
     part = _subfigure("PART", 0, groups)
     entities = [part]
-    if instanced:
+    if brep:
+        a = _instance(part, (0.0, 0.0, 0.0), trsf=topo.trsf((0, 0, 1), 30.0, (5.0, 10.0, 0.0)))
+        b = _instance(part, (0.0, 120.0, 0.0))
+        entities += [a, b]
+    elif instanced:
         a = _instance(part, (0.0, 0.0, 0.0), trsf=topo.trsf((0, 0, 1), 30.0, (5.0, 10.0, 0.0)))
         b = _instance(part, (0.0, 80.0, 0.0), scale=0.5)
         pair = _subfigure("PAIR", 1, [a, b])
@@ -247,6 +256,7 @@ def main():
     write_mapped_items(a.out_dir)
     write_subfigures(os.path.join(a.out_dir, "subfigure.igs"))
     write_subfigures(os.path.join(a.out_dir, "subfigure_uninstanced.igs"), instanced=False)
+    write_subfigures(os.path.join(a.out_dir, "subfigure_brep.igs"), brep=True)
 
 
 if __name__ == "__main__":

@@ -127,6 +127,9 @@ fn mapped_item_edges_are_occts() {
 fn subfigure_edges_are_occts() {
     // The plate's 308 read once, unplaced (no 408 instances it): OCCT's sewing, 14 edges.
     compare::<cadmorph_iges::Document>(&sample("subfigure_uninstanced.igs"), 14, 1e-7);
+    // The B-rep plate (a 186 solid) placed twice: each solid's 14 edges between two
+    // faces, none across the placements.
+    compare::<cadmorph_iges::Document>(&sample("subfigure_brep.igs"), 28, 1e-7);
     let (_, plate) = occt_edges(&sample("subfigure_uninstanced.igs"));
     // Four 408 placements (net scales 1, 0.5, 2, 1): the same 14 edges in each block of 7
     // faces, lengths scaled, none across placements. OCCT places a scaled 408 by a scaled

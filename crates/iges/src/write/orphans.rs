@@ -14,11 +14,12 @@
 //! Independent entities are never touched, nor anything the input itself left unused.
 //! Copies an edit appended (`Document::unshare_subfigures`) have no input to respect: a
 //! dependent copy nothing kept points to is an orphan.
-//! "Points to" is counted generously: every integer parameter of a record that is a DE
-//! number counts as a pointer, as do the directory's pointer fields, so that no entity a
-//! record might reference (through back-pointer groups, properties, or entity types
-//! without a [`View`]) is marked; the pointers an edit removed are read precisely, from
-//! the old and new [`View`]s.
+//! "Points to" is counted generously: the pointers a record's [`View`] reads, those of
+//! its additional pointer groups (back pointers, properties), and for entity types
+//! without a view every integer parameter that is a DE number, as well as the
+//! directory's pointer fields, so that no entity a record might reference is marked (a
+//! count or degree that happens to equal a DE number is no pointer where the view says
+//! so); the pointers an edit removed are read precisely, from the old and new [`View`]s.
 
 use std::collections::BTreeSet;
 
@@ -102,8 +103,10 @@ fn view_pointers(v: &View) -> Option<Vec<EntityId>> {
     Some(out)
 }
 
-/// Every DE number entity `k` of `doc` might point to: each integer parameter that names
-/// an entity, and the directory's pointer fields (§2.2.4.4: structure, line font, level,
+/// Every DE number entity `k` of `doc` might point to: the pointers its typed view reads
+/// and those of the additional pointer groups after them (§2.2.4.5.2), or, for a record
+/// without a view (or one that does not read), each integer parameter that names an
+/// entity; and the directory's pointer fields (§2.2.4.4: structure, line font, level,
 /// view, transformation matrix, label display, colour; negated where they point).
 fn generous_pointers(doc: &Document, k: usize, out: &mut Vec<usize>) {
     let e = &doc.entities[k];
@@ -114,9 +117,36 @@ fn generous_pointers(doc: &Document, k: usize, out: &mut Vec<usize>) {
             }
         }
     };
-    for p in e.params().skip(1) {
-        if let Param::Integer(n) = p {
-            add(n);
+    match doc.pointer_slots(e.id) {
+        // A typed view's pointers, and the additional pointer groups after them.
+        Ok(Some((slots, end))) => {
+            for i in slots {
+                if let Some(Param::Integer(n)) = e.param(i) {
+                    add(n);
+                }
+            }
+            let mut i = end;
+            for _ in 0..2 {
+                let Some(n) = e.param(i).and_then(|p| p.as_integer()).and_then(|n| usize::try_from(n).ok()) else {
+                    break;
+                };
+                if i + 1 + n > e.param_count() {
+                    break;
+                }
+                for j in i + 1..i + 1 + n {
+                    if let Some(Param::Integer(n)) = e.param(j) {
+                        add(n);
+                    }
+                }
+                i += 1 + n;
+            }
+        }
+        _ => {
+            for p in e.params().skip(1) {
+                if let Param::Integer(n) = p {
+                    add(n);
+                }
+            }
         }
     }
     let d = &e.directory;
