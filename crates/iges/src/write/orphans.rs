@@ -105,8 +105,8 @@ fn view_pointers(v: &View) -> Option<Vec<EntityId>> {
 
 /// Every DE number entity `k` of `doc` might point to: the pointers its typed view reads
 /// and those of the additional pointer groups after them (§2.2.4.5.2), or, for a record
-/// without a view (or one that does not read), each integer parameter that names an
-/// entity; and the directory's pointer fields (§2.2.4.4: structure, line font, level,
+/// without a view (or one that does not read, or a 402 or 406, whose views read most
+/// forms' values untyped), each integer parameter that names an entity; and the directory's pointer fields (§2.2.4.4: structure, line font, level,
 /// view, transformation matrix, label display, colour; negated where they point).
 fn generous_pointers(doc: &Document, k: usize, out: &mut Vec<usize>) {
     let e = &doc.entities[k];
@@ -117,7 +117,9 @@ fn generous_pointers(doc: &Document, k: usize, out: &mut Vec<usize>) {
             }
         }
     };
-    match doc.pointer_slots(e.id) {
+    // 402 and 406 views read most forms' values without knowing which are pointers.
+    let slots = if matches!(e.entity_type(), 402 | 406) { Ok(None) } else { doc.pointer_slots(e.id) };
+    match slots {
         // A typed view's pointers, and the additional pointer groups after them.
         Ok(Some((slots, end))) => {
             for i in slots {
