@@ -319,7 +319,7 @@ impl CadDocument for Document {
     fn unshare(&mut self, moved: &[EntityRef]) -> cadmorph_brep::Result<usize> {
         let mut set = std::collections::HashSet::with_capacity(moved.len());
         for &e in moved {
-            set.insert(de(e)?);
+            set.insert((de(e)?, e.occurrence));
         }
         self.unshare_subfigures(&set).map_err(err)
     }

@@ -1015,7 +1015,7 @@ impl Document {
     /// Instances that cannot be read are left out (`try_faces` names them); groups
     /// nested past the limit (a 402 that contains itself) leave no face at all.
     pub fn faces(&self) -> Vec<FaceRef> {
-        self.faces_impl(false).unwrap_or_default()
+        self.faces_impl(false, false).map(|f| f.0).unwrap_or_default()
     }
 
     /// Every face of the model, as OCCT 7.9's `IGESControl_Reader` lists them: each 144,
@@ -1036,10 +1036,18 @@ impl Document {
     /// 64, more than 100000 instances followed; [`Error::Transform`] for a 408's bad
     /// matrix chain; the read errors of the 308s and 408s.
     pub fn try_faces(&self) -> Result<Vec<FaceRef>> {
-        self.faces_impl(true)
+        self.faces_impl(true, false).map(|f| f.0)
     }
 
-    fn faces_impl(&self, strict: bool) -> Result<Vec<FaceRef>> {
+    /// [`try_faces`](Self::try_faces), each face with the 408 instances that place it,
+    /// outermost first (none for a face outside subfigures).
+    pub(crate) fn faces_with_instances(&self) -> Result<Vec<(FaceRef, Vec<EntityId>)>> {
+        let (faces, chains) = self.faces_impl(true, true)?;
+        Ok(faces.into_iter().zip(chains).collect())
+    }
+
+    /// The faces, and with `chains` the 408 instances placing each (else none).
+    fn faces_impl(&self, strict: bool, chains: bool) -> Result<(Vec<FaceRef>, Vec<Vec<EntityId>>)> {
         let mut used = vec![false; self.entities.len()];
         let mut plain = Vec::new();
         for e in &self.entities {
@@ -1068,7 +1076,13 @@ impl Document {
         let mut inside: std::collections::HashSet<EntityId> = std::collections::HashSet::new();
         let mut instanced: std::collections::HashSet<EntityId> = std::collections::HashSet::new();
         let mut roots: Vec<EntityId> = Vec::new();
-        let mut walk = Subfigures { budget: MAX_INSTANCES, depth: 0, strict };
+        let mut walk = Subfigures {
+            budget: MAX_INSTANCES,
+            depth: 0,
+            strict,
+            instances: Vec::new(),
+            chains: chains.then(Vec::new),
+        };
         for e in self.entities.iter().filter(|e| matches!(e.entity_type(), 308 | 408)) {
             match self.view(e.id()) {
                 Ok(View::SubfigureDefinition(d)) => {
@@ -1092,24 +1106,28 @@ impl Document {
                 roots.push(e.id());
             }
         }
-        let mut faces: Vec<(EntityId, FaceRef)> =
-            plain.into_iter().filter(|f| !inside.contains(&f.face)).map(|f| (f.face, f)).collect();
+        let mut faces: Vec<(EntityId, FaceRef, Vec<EntityId>)> =
+            plain.into_iter().filter(|f| !inside.contains(&f.face)).map(|f| (f.face, f, Vec::new())).collect();
+        if let Some(c) = &mut walk.chains {
+            c.clear();
+        }
         for root in roots {
             let mut placed = Vec::new();
             walk.entity(self, root, Matrix4::identity(), &mut Vec::new(), &mut placed, &mut inside)?;
-            faces.extend(placed.into_iter().map(|f| (root, f)));
+            let mut chains = walk.chains.as_mut().map(std::mem::take).unwrap_or_default().into_iter();
+            faces.extend(placed.into_iter().map(|f| (root, f, chains.next().unwrap_or_default())));
         }
         faces.sort_by_key(|f| f.0);
         let mut count: std::collections::HashMap<EntityId, u32> = std::collections::HashMap::new();
         Ok(faces
             .into_iter()
-            .map(|(_, mut f)| {
+            .map(|(_, mut f, chain)| {
                 let n = count.entry(f.face).or_insert(0);
                 f.occurrence = *n;
                 *n += 1;
-                f
+                (f, chain)
             })
-            .collect())
+            .unzip())
     }
 
     /// The face that entity `id` makes on its own: a 144, 143 or 510 with its surface (a
@@ -1197,6 +1215,10 @@ struct Subfigures {
     depth: usize,
     /// Report broken instances (`false`: leave them out).
     strict: bool,
+    /// The 408 instances being followed, outermost first.
+    instances: Vec<EntityId>,
+    /// When kept, `instances` as each face was placed (in the order faces are listed).
+    chains: Option<Vec<Vec<EntityId>>>,
 }
 
 impl Subfigures {
@@ -1265,6 +1287,9 @@ impl Subfigures {
                     mark(inside, id);
                     f.placement = placement;
                     out.push(f);
+                    if let Some(c) = &mut self.chains {
+                        c.push(self.instances.clone());
+                    }
                 }
             }
             402 => {
@@ -1323,7 +1348,10 @@ impl Subfigures {
                     Err(err) => return self.refuse(err),
                 };
                 let local = m * Matrix4::new_translation(&i.translation.coords) * Matrix4::new_scaling(i.scale);
-                self.definition(doc, i.definition, placement * local, stack, out, inside)?;
+                self.instances.push(id);
+                let r = self.definition(doc, i.definition, placement * local, stack, out, inside);
+                self.instances.pop();
+                r?;
             }
             _ => {}
         }

@@ -4,10 +4,10 @@
 //! A 308 subfigure definition (IGES 5.3 §4.74) placed by several 408 singular subfigure
 //! instances (§4.137) holds one set of surfaces for all its places: a morph that moves
 //! the places differently cannot be written into it. [`Document::unshare_subfigures`]
-//! gives every instance after the first its own copy of the definition: the definition
-//! and every entity its records reach through pointers (groups, faces, surfaces, trims,
-//! curves, B-rep topology), appended after the entities read, with the pointers between
-//! them renumbered to the copies. Transformation matrices (124), colours (314) and
+//! gives each instance whose placement moves its own copy of the definition: the
+//! definition and every entity its records reach through pointers (groups, faces,
+//! surfaces, trims, curves, B-rep topology), appended after the entities read, with the
+//! pointers between them renumbered to the copies. Transformation matrices (124), colours (314) and
 //! properties (406) stay shared, as do nested definitions: a nested 408 copied with its
 //! container points to the same nested 308, which is then instanced once more and is
 //! copied in its turn. Entity types without a typed view (whose pointers are not known)
@@ -27,27 +27,37 @@ use crate::{Error, Result};
 const SHARED_TYPES: [u32; 4] = [0, 124, 314, 406];
 
 impl Document {
-    /// Gives each 408 instance of a 308 definition that holds one of the `moved` faces
-    /// (144, 143, 510 or bare surface entities, anywhere below the definition, nested
-    /// instances included) its own copy of the definition, the first instance keeping
-    /// the original; returns the number of definitions copied (0 leaves the document
-    /// untouched). Unlike STEP's [`unshare`](crate::Document::unshare) per occurrence,
-    /// all the instances of such a definition get copies, moved or not: an IGES face's
-    /// occurrence is not tied back to one 408 chain.
+    /// Gives each placement that holds one of the `moved` faces (face entity and
+    /// [`FaceRef::occurrence`](crate::FaceRef::occurrence), as
+    /// [`try_faces`](Self::try_faces) lists them) its own copies of the 308 definitions
+    /// on its chain of 408 instances, where another instance shares them: a moving
+    /// instance of a definition several instances place gets a copy (the first keeps the
+    /// original when all of them move), instances whose placements do not move keep
+    /// sharing it. Nested definitions are handled level by level: a copied container's
+    /// nested instances place the nested definitions once more, and are separated in
+    /// their turn where they move. Returns the number of definitions copied (0 leaves the
+    /// document untouched).
     ///
-    /// Afterwards [`faces`](Self::faces) lists as many faces at the same places in the
-    /// same order; those of the copies are new entities.
+    /// Afterwards [`try_faces`](Self::try_faces) lists the same faces at the same places
+    /// in the same order; those of the copies are new entities.
     ///
     /// # Errors
     ///
-    /// The read errors of the records copied; [`Error::Subfigure`] when the copies would
-    /// grow the file past 16 times its entities (and at least 100000): definitions
-    /// nested and instanced beyond reason.
-    pub fn unshare_subfigures(&mut self, moved: &HashSet<EntityId>) -> Result<usize> {
+    /// Those of [`try_faces`](Self::try_faces) and of reading the records copied;
+    /// [`Error::Subfigure`] when the copies would grow the file past 16 times its
+    /// entities (and at least 100000): definitions nested and instanced beyond reason.
+    pub fn unshare_subfigures(&mut self, moved: &HashSet<(EntityId, u32)>) -> Result<usize> {
         let limit = (self.entities.len() * 16).max(100_000);
-        // The copies of moved faces are moved faces too (a copied container's nested
-        // definitions are instanced twice in their turn).
-        let mut moved = moved.clone();
+        // Each moved placement as its chain of instances (outermost first) and face.
+        let mut paths: Vec<(Vec<EntityId>, EntityId)> = Vec::new();
+        if moved.is_empty() {
+            return Ok(0);
+        }
+        for (f, chain) in self.faces_with_instances()? {
+            if !chain.is_empty() && moved.contains(&(f.face, f.occurrence)) {
+                paths.push((chain, f.face));
+            }
+        }
         let mut copies = 0;
         loop {
             // The 408 instances of each 308, in entity order.
@@ -57,17 +67,45 @@ impl Document {
                     instances.entry(i.definition).or_default().push(e.id());
                 }
             }
-            let Some((def, insts)) =
-                instances.into_iter().find(|(d, insts)| insts.len() > 1 && self.holds_any(*d, &moved))
-            else {
+            // How deep each instance on a moved path is (0: placed at the top).
+            let mut depth: HashMap<EntityId, usize> = HashMap::new();
+            for (chain, _) in &paths {
+                for (k, &i) in chain.iter().enumerate() {
+                    let d = depth.entry(i).or_insert(k);
+                    *d = (*d).min(k);
+                }
+            }
+            // The outermost definition shared by a moving instance and another one: an
+            // inner definition is separated only once its containers are, or an
+            // instance inside a shared container would carry unmoved placements along.
+            let shared = instances
+                .into_iter()
+                .filter_map(|(def, insts)| {
+                    let moving: Vec<EntityId> = insts.iter().copied().filter(|i| depth.contains_key(i)).collect();
+                    let level = moving.iter().map(|i| depth[i]).min()?;
+                    (insts.len() > 1).then(|| {
+                        // All moving: the first keeps the original.
+                        let skip = usize::from(moving.len() == insts.len());
+                        (level, def, moving[skip..].to_vec())
+                    })
+                })
+                .min_by_key(|c| (c.0, c.1));
+            let Some((_, def, to_copy)) = shared else {
                 return Ok(copies);
             };
-            for inst in &insts[1..] {
+            for inst in to_copy {
                 let map = self.copy_closure(def)?;
-                moved
-                    .extend(map.iter().filter(|(old, _)| moved.contains(old)).map(|(_, new)| *new).collect::<Vec<_>>());
-                self.repoint(*inst, &HashMap::from([(def, map[&def])]))?;
+                self.repoint(inst, &HashMap::from([(def, map[&def])]))?;
                 copies += 1;
+                // The moved placements through this instance now run through the copy.
+                for (chain, face) in &mut paths {
+                    if let Some(at) = chain.iter().position(|&i| i == inst) {
+                        for i in &mut chain[at + 1..] {
+                            *i = map.get(i).copied().unwrap_or(*i);
+                        }
+                        *face = map.get(face).copied().unwrap_or(*face);
+                    }
+                }
                 if self.entities.len() > limit {
                     return Err(Error::Subfigure {
                         de: def.0,
@@ -91,23 +129,6 @@ impl Document {
             .filter(|&v| v != 0)
             .map(|v| EntityId(v.unsigned_abs() as u32))
             .collect())
-    }
-
-    /// Whether any of `moved` is reachable from `root` through pointers.
-    fn holds_any(&self, root: EntityId, moved: &HashSet<EntityId>) -> bool {
-        let mut seen = HashSet::from([root]);
-        let mut work = vec![root];
-        while let Some(id) = work.pop() {
-            if moved.contains(&id) {
-                return true;
-            }
-            for p in self.pointees(id).unwrap_or_default() {
-                if seen.insert(p) {
-                    work.push(p);
-                }
-            }
-        }
-        false
     }
 
     /// Appends a copy of `root` and of everything its records reach (but the shared

@@ -39,9 +39,9 @@ fn every_instance_gets_its_own_copy_and_every_face_stays_in_place() {
     assert_eq!(before.len(), 28);
     let points = placed_points(&doc, &before);
     let n_read = doc.len();
-    let moved: HashSet<EntityId> = before.iter().map(|f| f.face).collect();
-    // PART's two instances inside PAIR (one copy), PAIR's two instances (one copy, whose
-    // nested instances place PART and PART's copy again: two more copies).
+    let moved: HashSet<(EntityId, u32)> = before.iter().map(|f| (f.face, f.occurrence)).collect();
+    // PAIR's two instances (one copy, whose nested instances place PART again); then
+    // PART's four instances, all moving (three copies).
     assert_eq!(doc.unshare_subfigures(&moved).unwrap(), 4);
     assert!(doc.len() > n_read);
     let after = doc.try_faces().unwrap();
@@ -64,7 +64,7 @@ fn every_instance_gets_its_own_copy_and_every_face_stays_in_place() {
     assert_eq!(placed_points(&again, &faces_again), points);
     // Once unshared, nothing is left to copy.
     let mut again = again;
-    assert_eq!(again.unshare_subfigures(&faces_again.iter().map(|f| f.face).collect()).unwrap(), 0);
+    assert_eq!(again.unshare_subfigures(&faces_again.iter().map(|f| (f.face, f.occurrence)).collect()).unwrap(), 0);
 }
 
 #[test]
@@ -75,9 +75,36 @@ fn no_moved_face_no_copy_and_the_file_is_unchanged() {
         assert!(doc.write() == bytes, "{name}");
         // A definition instanced once (or not at all) needs no copy either.
         if name != "subfigure.igs" {
-            let all: HashSet<EntityId> = doc.try_faces().unwrap().iter().map(|f| f.face).collect();
+            let all: HashSet<(EntityId, u32)> =
+                doc.try_faces().unwrap().iter().map(|f| (f.face, f.occurrence)).collect();
             assert_eq!(doc.unshare_subfigures(&all).unwrap(), 0, "{name}");
             assert!(doc.write() == bytes, "{name}");
         }
     }
+}
+
+#[test]
+fn placements_that_do_not_move_keep_sharing() {
+    // The four placements of PART, in the order `try_faces` lists them: (outer instance,
+    // inner instance) = (1, a), (1, b), (2, a), (2, b). Only the first moves.
+    let (_, mut doc) = read("subfigure.igs");
+    let before = doc.try_faces().unwrap();
+    let points = placed_points(&doc, &before);
+    let first: HashSet<(EntityId, u32)> = before.iter().filter(|f| f.occurrence == 0).map(|f| (f.face, 0)).collect();
+    assert_eq!(first.len(), 7);
+    // PAIR for the first outer instance, then PART for its inner instance a: two copies
+    // (copying PART first would have carried the unmoved (2, a) along).
+    assert_eq!(doc.unshare_subfigures(&first).unwrap(), 2);
+    let after = doc.try_faces().unwrap();
+    assert_eq!(after.len(), 28);
+    assert_eq!(placed_points(&doc, &after), points, "a placed face moved");
+    let block = |k: usize| -> HashSet<EntityId> { after[7 * k..7 * k + 7].iter().map(|f| f.surface).collect() };
+    let (moved, others) = (block(0), [block(1), block(2), block(3)]);
+    assert!(others.iter().all(|o| o.is_disjoint(&moved)), "the moved placement shares a surface");
+    // The unmoved placements (1, b) and (2, b) still share the original PART; (2, a)
+    // shares it too.
+    assert_eq!(others[0], others[1]);
+    assert_eq!(others[1], others[2]);
+    let again = Document::parse(&doc.write()).unwrap();
+    assert_eq!(again.try_faces().unwrap(), after);
 }

@@ -156,8 +156,8 @@ impl<D: CadDocument> Model<D> {
     /// A part placed more than once (a STEP assembly's repeated component, a mapped
     /// representation, an IGES subfigure definition) first gets its own copy for each
     /// placement holding a face the morph moves ([`CadDocument::unshare`]), so each
-    /// placement moves its own way; STEP placements that do not move keep sharing the
-    /// original (IGES copies every instance of such a definition).
+    /// placement moves its own way; placements that do not move keep sharing the
+    /// original.
     ///
     /// # Errors
     ///

@@ -36,7 +36,7 @@ fn affine_ffd(m: &Model) -> Ffd {
 }
 
 /// The largest distance between `after` and the FFD of `before`, on a 7 × 7 grid.
-fn deviation(before: &NurbsSurface, after: &NurbsSurface, f: &Ffd) -> f64 {
+fn deviation(before: &NurbsSurface, after: &NurbsSurface, f: &dyn Deformation) -> f64 {
     assert_eq!(before.domain(), after.domain(), "parameters changed");
     cadmorph_testkit::grid(before, 7)
         .into_iter()
@@ -130,4 +130,41 @@ fn occt_reads_moved_placements_of(name: &str, n_faces: usize) {
     }
     assert_eq!(compared, n_faces * 25, "{name}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A lattice around the two placements of the first outer instance only (its centre
+/// node moved): they move, the two placements of the other outer instance keep the
+/// original part, unchanged. Three copies: PAIR for the first outer instance, then PART
+/// for each of the two inner instances of that copy.
+#[test]
+fn a_morph_of_some_placements_leaves_the_others_sharing_the_part() {
+    let input = std::fs::read(sample("subfigure.igs")).unwrap();
+    let mut m = open(&input);
+    let before: Vec<NurbsSurface> = m.patches().iter().map(|p| p.surface.clone()).collect();
+    let (mut lo, mut hi) = (Point3::new(f64::MAX, f64::MAX, f64::MAX), Point3::new(f64::MIN, f64::MIN, f64::MIN));
+    for s in &before[..14] {
+        for q in s.control_points() {
+            lo = lo.inf(q);
+            hi = hi.sup(q);
+        }
+    }
+    let others_outside = before[14..]
+        .iter()
+        .all(|s| s.control_points().iter().all(|q| (0..3).any(|k| q[k] < lo[k] - 1.0 || q[k] > hi[k] + 1.0)));
+    assert!(others_outside, "the sample's placements overlap: pick another box");
+    let margin = Vector3::repeat(0.5);
+    let mut f = Ffd::try_new([3, 3, 3], lo - margin, hi - lo + 2.0 * margin, Vector3::zeros()).unwrap();
+    f.mu_mut().set(1, 1, 1, [0.02, 0.03, 0.05]);
+    let out = m.morph(&f, &MorphOptions::default()).unwrap();
+    assert_eq!(out.faces_rewritten, 14);
+    let again = open(&m.to_bytes());
+    let doc = cadmorph_iges::Document::parse(&m.to_bytes()).unwrap();
+    assert_eq!(doc.counts_by_type()[&308], 5, "PAIR and PART, one copy of PAIR, two of PART");
+    for (k, (b, a)) in before.iter().zip(again.patches()).enumerate().skip(14) {
+        let d = deviation(b, &a.surface, &cadmorph_morph::from_fn(|p| *p));
+        assert!(d == 0.0, "face {k} of an unmoved placement moved by {d:e}");
+    }
+    for (b, a) in before.iter().zip(again.patches()).take(14) {
+        assert!(deviation(b, &a.surface, &cadmorph_morph::from_fn(|p| *p)) > 1e-3, "a face of the moved placement");
+    }
 }
