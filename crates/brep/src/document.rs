@@ -115,9 +115,9 @@ pub trait CadDocument {
     fn set_free_curve(&mut self, f: &FreeCurve, c: &NurbsCurve) -> Result<bool>;
 
     /// Gives each placement of a part placed more than once (an assembly's repeated
-    /// component, a mapped representation) that holds one of the placed faces `moved`
-    /// its own copy of the part, so that a morph can move each placement its own way.
-    /// Afterwards [`faces`](Self::faces) lists the same faces in the same order at the
+    /// component, a mapped representation, an IGES subfigure) that holds one of the
+    /// placed faces `moved` its own copy of the part, so that a morph can move each
+    /// placement its own way. Afterwards [`faces`](Self::faces) lists the same faces in the same order at the
     /// same places; those of the copies carry new entities. Placements holding no moved
     /// face keep sharing. Returns the number of copies made; the default, for formats
     /// that cannot copy, makes none.

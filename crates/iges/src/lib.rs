@@ -22,6 +22,9 @@
 //!   [`Document::set_bspline_surface`], [`Document::set_bspline_curve`],
 //!   [`Document::replace_with_bspline`] and the raw [`Document::set_values`]. Sequence
 //!   numbers, directory pointers and line counts and the Terminate record follow.
+//!   [`Document::unshare_subfigures`] gives the 408 instances on a moved placement their
+//!   own copies of the 308 definitions they share (appended entities, pointers
+//!   renumbered), so that each placement of a part can be morphed its own way.
 //! * [`write::DocumentBuilder`] writes new files from NURBS curves and surfaces.
 //! * [`Document::face_bounds`] is the one walk over what bounds a face (144 → 142,
 //!   143 → 141, 510 → 508 → 504), and [`Document::reversed_faces`] the orientation from
