@@ -5,6 +5,7 @@ use std::collections::HashSet;
 
 use cadmorph_brep::{CadDocument, EntityRef, Face, SurfaceKind};
 use cadmorph_morph::Deformation;
+use cadmorph_nurbs::math::Point3;
 use cadmorph_nurbs::{NurbsSurface, Surface};
 use cadmorph_seam::{
     area_and_volume, covers_side, make_compatible, refine_edges, refine_uniform, repair, SeamCheck, SeamRefineOptions,
@@ -472,6 +473,7 @@ impl<D: CadDocument> Model<D> {
         let mut n = 0;
         let mut traced: HashSet<EntityRef> = HashSet::new();
         let step = self.format() == cadmorph_brep::Format::Step;
+        let ends_before: Vec<Option<[Point3<f64>; 2]>> = self.bounds.iter().map(whole_curve_ends).collect();
         // Curves shared with a face the morph bends (not kept in its plane): traced on
         // that face, also where a plane kept in its plane comes first. Moving a curve's
         // control points is not the morph of the curve (a line stays straight where the
@@ -527,6 +529,7 @@ impl<D: CadDocument> Model<D> {
             }
             self.set_bound_in_memory(k, c);
         }
+        n += self.close_plane_loops(&ends_before, in_plane)?;
         for f in &mut self.free {
             if traced.contains(&f.entity) {
                 continue;
@@ -540,6 +543,74 @@ impl<D: CadDocument> Model<D> {
         }
         Ok(n)
     }
+}
+
+impl<D: CadDocument> Model<D> {
+    /// Closes the loops of the planes kept in their plane (IGES trimming curves, each a
+    /// face's own): their curves follow the different faces across their edges (or are the
+    /// morph's image where no face bends there), whose corners differ by what those faces
+    /// are off the exact morph. Where two of a plane's curves met before the morph (within
+    /// `1e-9 ×` the model size), their new ends are moved to their midpoint (the end
+    /// control point of each clamped curve; both stay in the plane): a loop left open by
+    /// 2e-4 mm made OCCT's IGES reader fill each gap with an edge of its own. Returns how
+    /// many curve entities were rewritten.
+    fn close_plane_loops(&mut self, ends_before: &[Option<[Point3<f64>; 2]>], in_plane: &[bool]) -> Result<usize> {
+        let meet = 1e-9 * self.size();
+        let mut n = 0;
+        for face in (0..self.faces.len()).filter(|&f| in_plane[f]) {
+            let ks: Vec<usize> = (0..self.bounds.len())
+                .filter(|&k| {
+                    let b = &self.bounds[k];
+                    b.face == face && b.edge.is_none() && b.target.is_some() && ends_before[k].is_some()
+                })
+                .collect();
+            for (x, &i) in ks.iter().enumerate() {
+                for &j in &ks[x + 1..] {
+                    for (ei, ej) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                        let (Some(bi), Some(bj)) = (ends_before[i], ends_before[j]) else { continue };
+                        if (bi[ei] - bj[ej]).norm() > meet {
+                            continue;
+                        }
+                        let (Some(ni), Some(nj)) =
+                            (whole_curve_ends(&self.bounds[i]), whole_curve_ends(&self.bounds[j]))
+                        else {
+                            continue;
+                        };
+                        if ni[ei] == nj[ej] {
+                            continue;
+                        }
+                        let mid = Point3::from((ni[ei].coords + nj[ej].coords) / 2.0);
+                        for (k, end) in [(i, ei), (j, ej)] {
+                            let mut c = self.bounds[k].curve.clone();
+                            let last = c.control_points().len() - 1;
+                            c.control_points_mut()[if end == 0 { 0 } else { last }] = mid;
+                            if self.doc.set_bound_curve(&self.bounds[k], &c)? {
+                                n += 1;
+                            }
+                            self.set_bound_in_memory(k, c);
+                        }
+                    }
+                }
+            }
+        }
+        Ok(n)
+    }
+}
+
+/// The ends of a bound curve that bounds its face over its whole domain and is clamped
+/// there (its end control points are its ends); `None` otherwise.
+fn whole_curve_ends(b: &cadmorph_brep::BoundCurve) -> Option<[Point3<f64>; 2]> {
+    use cadmorph_nurbs::Curve;
+    let c = &b.curve;
+    let dom = c.domain();
+    let (t0, t1) = (*dom.start(), *dom.end());
+    if b.range != (t0, t1) {
+        return None;
+    }
+    let (p, q) = (c.eval(t0), c.eval(t1));
+    let pts = c.control_points();
+    let scale = c.bounding_box().diagonal().max(f64::MIN_POSITIVE);
+    ((p - pts[0]).norm() <= 1e-12 * scale && (q - pts[pts.len() - 1]).norm() <= 1e-12 * scale).then_some([p, q])
 }
 
 /// Whether nine evenly spaced points of `c` lie within `eps` of surface `s` (checked
