@@ -269,6 +269,13 @@ pub fn run(a: Args) -> Result<()> {
         outcome.control_points_before,
         outcome.control_points_after
     );
+    if outcome.parts_copied > 0 {
+        println!(
+            "{} placed part{} copied first, so that placements of one part move their own ways",
+            outcome.parts_copied,
+            if outcome.parts_copied == 1 { "" } else { "s" }
+        );
+    }
     if let Some(r) = &exact_report {
         println!(
             "exact FFD: {} faces exact ({} control points composed, {} after knot removal, bound {:.3e} {}), {} \

@@ -54,6 +54,7 @@ pub fn print(
             "control_points_after": o.control_points_after,
             "faces_rewritten": o.faces_rewritten,
             "curves_rewritten": o.curves_rewritten,
+            "parts_copied": o.parts_copied,
             "refinement": refinement,
             "seams_before": crate::seam_report::json(&o.seams_before, m.patches(), &none),
             "seams_after": crate::seam_report::json(&o.seams_after, written.unwrap_or(m).patches(), &none),

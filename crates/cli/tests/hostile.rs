@@ -296,6 +296,8 @@ fn a_part_placed_by_mapped_items_is_morphed_with_a_copy_for_each_moved_placement
     let out = s.path("out.stp");
     let o = cadmorph(&["morph", "samples/mapped_item.stp", "--ffd", "tests/repro/fuzz_small.prm", "-o", &out]);
     assert!(o.status.success(), "{}", stderr(&o));
+    let said = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(said.contains("placed parts copied first"), "{said}");
     let o = cadmorph(&["info", &out]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(String::from_utf8_lossy(&o.stdout).contains("faces (35;"), "{}", String::from_utf8_lossy(&o.stdout));
@@ -334,6 +336,8 @@ fn a_part_placed_by_subfigure_instances_is_copied_for_each_placement() {
     let out = s.path("out.igs");
     let o = cadmorph(&["morph", "samples/subfigure.igs", "--ffd", "tests/repro/fuzz_small.prm", "-o", &out]);
     assert!(o.status.success(), "{}", stderr(&o));
+    let said = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(said.contains("4 placed parts copied first"), "{said}");
     let o = cadmorph(&["info", &out]);
     assert!(o.status.success(), "{}", stderr(&o));
     let info = String::from_utf8_lossy(&o.stdout).into_owned();

@@ -75,6 +75,10 @@ pub struct MorphOutcome {
     pub faces_rewritten: usize,
     /// Model-space curves whose entities were written (each shared edge once).
     pub curves_rewritten: usize,
+    /// Parts copied so that the placements of a part placed more than once could move
+    /// differently (STEP representations, IGES subfigure definitions; see
+    /// [`CadDocument::unshare`]): 0 when no moved part is shared.
+    pub parts_copied: usize,
     /// The seam refinement's report, when it ran.
     pub refinement: Option<SeamRefinement>,
     /// The seam repair's report, when it ran.
@@ -196,11 +200,15 @@ impl<D: CadDocument> Model<D> {
         // ways: the placements that move get their own copies of the part first (the
         // document keeps the faces' order and places). Faces sharing a surface in one
         // placement move it once; placements that move nothing may keep sharing.
+        let mut parts_copied = 0;
         if shared_placed_surface(&self.faces, |_| true).is_some() {
             let moved: Vec<EntityRef> =
                 self.faces.iter().filter(|f| moved_by(d, f.surface.control_points())).map(|f| f.entity).collect();
-            if !moved.is_empty() && self.doc.unshare(&moved)? > 0 {
-                self.reload()?;
+            if !moved.is_empty() {
+                parts_copied = self.doc.unshare(&moved)?;
+                if parts_copied > 0 {
+                    self.reload()?;
+                }
             }
             let moved: Vec<bool> = self.faces.iter().map(|f| moved_by(d, f.surface.control_points())).collect();
             if let Some((surface, first, second)) = shared_placed_surface(&self.faces, |i| moved[i]) {
@@ -364,6 +372,7 @@ impl<D: CadDocument> Model<D> {
             control_points_after: count(&self.faces),
             faces_rewritten,
             curves_rewritten,
+            parts_copied,
             refinement,
             repair: repair_outcome,
             seams_before,

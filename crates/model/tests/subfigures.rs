@@ -48,7 +48,8 @@ fn deviation(before: &NurbsSurface, after: &NurbsSurface, f: &dyn Deformation) -
 fn each_subfigure_placement_moves_its_own_way() {
     // Faces mode (a 402 group of 144s, nested instances: 4 placements) and B-rep mode
     // (a 186 solid, 2 placements).
-    for (name, n_faces) in [("subfigure.igs", 28), ("subfigure_brep.igs", 14)] {
+    // Copies: PAIR once, then PART for three of its four instances; PART once.
+    for (name, n_faces, copies) in [("subfigure.igs", 28, 4), ("subfigure_brep.igs", 14, 1)] {
         let input = std::fs::read(sample(name)).unwrap();
         let mut m = open(&input);
         let size = m.size();
@@ -57,6 +58,7 @@ fn each_subfigure_placement_moves_its_own_way() {
         let f = affine_ffd(&m);
         let out = m.morph(&f, &MorphOptions::default()).unwrap();
         assert_eq!(out.faces_rewritten, n_faces, "{name}");
+        assert_eq!(out.parts_copied, copies, "{name}");
         let written = m.to_bytes();
         let again = open(&written);
         assert_eq!(again.patches().len(), n_faces, "{name}");
@@ -156,7 +158,7 @@ fn a_morph_of_some_placements_leaves_the_others_sharing_the_part() {
     let mut f = Ffd::try_new([3, 3, 3], lo - margin, hi - lo + 2.0 * margin, Vector3::zeros()).unwrap();
     f.mu_mut().set(1, 1, 1, [0.02, 0.03, 0.05]);
     let out = m.morph(&f, &MorphOptions::default()).unwrap();
-    assert_eq!(out.faces_rewritten, 14);
+    assert_eq!((out.faces_rewritten, out.parts_copied), (14, 3));
     let again = open(&m.to_bytes());
     let doc = cadmorph_iges::Document::parse(&m.to_bytes()).unwrap();
     assert_eq!(doc.counts_by_type()[&308], 5, "PAIR and PART, one copy of PAIR, two of PART");

@@ -205,8 +205,8 @@ impl PyModel {
     /// PyGeM-style refinement instead (that many knots per direction on every patch).
     /// `repair`: make knots compatible across seams first and both sides of every shared
     /// edge identical after. Returns the outcome as a dict (`control_points_before`,
-    /// `control_points_after`, `faces_rewritten`, `curves_rewritten`, `refinement`,
-    /// `seams_before`, `seams_after`).
+    /// `control_points_after`, `faces_rewritten`, `curves_rewritten`, `parts_copied`,
+    /// `refinement`, `seams_before`, `seams_after`).
     #[pyo3(signature = (deformation, refine_tol = None, angle_tol = 0.01, max_control_points = None, uniform_knots = None, repair = false))]
     fn morph<'py>(
         &mut self,
