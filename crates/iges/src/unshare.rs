@@ -46,8 +46,8 @@ impl Document {
     /// Those of [`try_faces`](Self::try_faces) and of reading the records copied;
     /// [`Error::Subfigure`] when the copies would grow the file past 16 times its
     /// entities (and at least 100000): definitions nested and instanced beyond reason.
+    /// On an error the document is left as it was.
     pub fn unshare_subfigures(&mut self, moved: &HashSet<(EntityId, u32)>) -> Result<usize> {
-        let limit = (self.entities.len() * 16).max(100_000);
         // Each moved placement as its chain of instances (outermost first) and face.
         let mut paths: Vec<(Vec<EntityId>, EntityId)> = Vec::new();
         if moved.is_empty() {
@@ -58,6 +58,21 @@ impl Document {
                 paths.push((chain, f.face));
             }
         }
+        if paths.is_empty() {
+            return Ok(0);
+        }
+        // All or nothing: a record that fails to read half-way leaves the document as it was.
+        let before = self.clone();
+        let r = self.unshare_paths(paths);
+        if r.is_err() {
+            *self = before;
+        }
+        r
+    }
+
+    /// [`unshare_subfigures`](Self::unshare_subfigures) of the moved placements `paths`.
+    fn unshare_paths(&mut self, mut paths: Vec<(Vec<EntityId>, EntityId)>) -> Result<usize> {
+        let limit = (self.entities.len() * 16).max(100_000);
         let mut copies = 0;
         loop {
             // The 408 instances of each 308, in entity order.
@@ -182,7 +197,12 @@ impl Document {
     /// Writes `target`'s record as `source`'s values with their pointers mapped by `map`
     /// (`target` is `source` or its fresh copy, which is always written).
     fn repoint_as(&mut self, source: EntityId, target: EntityId, map: &HashMap<EntityId, EntityId>) -> Result<()> {
-        let Some((slots, end)) = self.pointer_slots(source)? else { return Ok(()) };
+        let (slots, end) = match self.pointer_slots(source)? {
+            Some(s) => s,
+            None if source == target => return Ok(()),
+            // A copy is always written, its record as the original's.
+            None => (Vec::new(), usize::MAX),
+        };
         let mut values = self.entity(source)?.values();
         let remap = |v: &mut Value| {
             if let Value::Integer(n) = v {

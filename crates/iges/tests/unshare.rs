@@ -108,3 +108,17 @@ fn placements_that_do_not_move_keep_sharing() {
     let again = Document::parse(&doc.write()).unwrap();
     assert_eq!(again.try_faces().unwrap(), after);
 }
+
+#[test]
+fn a_record_that_does_not_read_leaves_the_document_as_it_was() {
+    // A trim (142) of the plate whose model-space curve points past the directory: the
+    // faces read (they do not follow it), the copy of the part cannot.
+    let text = std::fs::read_to_string(sample("subfigure.igs")).unwrap();
+    let bad = text.replacen("142,0,5,0,9,2;   ", "142,0,5,0,9999,2;", 1);
+    assert_ne!(bad, text);
+    let mut doc = Document::parse(bad.as_bytes()).unwrap();
+    let moved: HashSet<(EntityId, u32)> = doc.try_faces().unwrap().iter().map(|f| (f.face, f.occurrence)).collect();
+    let err = doc.unshare_subfigures(&moved).unwrap_err();
+    assert!(err.to_string().contains("9999"), "{err}");
+    assert!(doc.write() == bad.as_bytes(), "the document changed");
+}
