@@ -136,7 +136,7 @@ impl Document {
     /// The entities entity `id`'s record points to (its typed view's pointers; none for
     /// types without one).
     fn pointees(&self, id: EntityId) -> Result<Vec<EntityId>> {
-        let Some((slots, _)) = self.pointer_slots(id)? else { return Ok(Vec::new()) };
+        let Some(slots) = self.pointer_slots(id)? else { return Ok(Vec::new()) };
         let e = self.entity(id)?;
         Ok(slots
             .iter()
@@ -197,40 +197,19 @@ impl Document {
     /// Writes `target`'s record as `source`'s values with their pointers mapped by `map`
     /// (`target` is `source` or its fresh copy, which is always written).
     fn repoint_as(&mut self, source: EntityId, target: EntityId, map: &HashMap<EntityId, EntityId>) -> Result<()> {
-        let (slots, end) = match self.pointer_slots(source)? {
+        let slots = match self.pointer_slots(source)? {
             Some(s) => s,
             None if source == target => return Ok(()),
             // A copy is always written, its record as the original's.
-            None => (Vec::new(), usize::MAX),
+            None => Vec::new(),
         };
         let mut values = self.entity(source)?.values();
-        let remap = |v: &mut Value| {
-            if let Value::Integer(n) = v {
+        for &i in &slots {
+            if let Some(Value::Integer(n)) = values.get_mut(i) {
                 if let Some(to) = u32::try_from(n.unsigned_abs()).ok().and_then(|a| map.get(&EntityId(a))) {
                     *n = n.signum() * i64::from(to.0);
                 }
             }
-        };
-        for &i in &slots {
-            if let Some(v) = values.get_mut(i) {
-                remap(v);
-            }
-        }
-        // §2.2.4.5.2: NV associativity pointers, then NP property pointers.
-        let mut i = end;
-        for _ in 0..2 {
-            let Some(n) =
-                values.get(i).and_then(|v| if let Value::Integer(n) = v { usize::try_from(*n).ok() } else { None })
-            else {
-                break;
-            };
-            if i + 1 + n > values.len() {
-                break;
-            }
-            for v in &mut values[i + 1..i + 1 + n] {
-                remap(v);
-            }
-            i += 1 + n;
         }
         self.write_values(target, values, source != target)
     }

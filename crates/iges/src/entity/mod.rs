@@ -318,16 +318,16 @@ impl Document {
         self.read_view(&mut Cursor::new(self, e))
     }
 
-    /// Where entity `id`'s typed view reads pointers: the indices in
-    /// [`Entity::params`] (the entity type at 0) of those parameters, and the index after
-    /// the last parameter the view reads (where the additional pointer groups of IGES
-    /// 5.3 §2.2.4.5.2 start). `None` for an entity type without a view, whose pointers
-    /// are not known.
+    /// Where entity `id`'s record holds pointers: the indices in [`Entity::params`] (the
+    /// entity type at 0) of the parameters its typed view reads as pointers, then those
+    /// of the additional pointer groups after the view's parameters (IGES 5.3
+    /// §2.2.4.5.2: NV associativity pointers, then NP property pointers). `None` for an
+    /// entity type without a view, whose pointers are not known.
     ///
     /// # Errors
     ///
     /// Those of [`view`](Self::view).
-    pub(crate) fn pointer_slots(&self, id: EntityId) -> Result<Option<(Vec<usize>, usize)>> {
+    pub(crate) fn pointer_slots(&self, id: EntityId) -> Result<Option<Vec<usize>>> {
         let e = self.entity(id)?;
         if !is_known_type(e.entity_type()) {
             return Ok(None);
@@ -337,7 +337,19 @@ impl Document {
         if let View::Unknown { .. } = self.read_view(&mut c)? {
             return Ok(None);
         }
-        Ok(Some((c.slots.take().unwrap_or_default(), c.i.min(e.param_count()))))
+        let mut slots = c.slots.take().unwrap_or_default();
+        let mut i = c.i.min(e.param_count());
+        for _ in 0..2 {
+            let Some(n) = e.param(i).and_then(|p| p.as_integer()).and_then(|n| usize::try_from(n).ok()) else {
+                break;
+            };
+            if i + 1 + n > e.param_count() {
+                break;
+            }
+            slots.extend(i + 1..i + 1 + n);
+            i += 1 + n;
+        }
+        Ok(Some(slots))
     }
 
     /// The typed view read through `c`.

@@ -121,26 +121,11 @@ fn generous_pointers(doc: &Document, k: usize, out: &mut Vec<usize>) {
     let slots = if matches!(e.entity_type(), 402 | 406) { Ok(None) } else { doc.pointer_slots(e.id) };
     match slots {
         // A typed view's pointers, and the additional pointer groups after them.
-        Ok(Some((slots, end))) => {
+        Ok(Some(slots)) => {
             for i in slots {
                 if let Some(Param::Integer(n)) = e.param(i) {
                     add(n);
                 }
-            }
-            let mut i = end;
-            for _ in 0..2 {
-                let Some(n) = e.param(i).and_then(|p| p.as_integer()).and_then(|n| usize::try_from(n).ok()) else {
-                    break;
-                };
-                if i + 1 + n > e.param_count() {
-                    break;
-                }
-                for j in i + 1..i + 1 + n {
-                    if let Some(Param::Integer(n)) = e.param(j) {
-                        add(n);
-                    }
-                }
-                i += 1 + n;
             }
         }
         _ => {
