@@ -14,7 +14,7 @@ use nalgebra::{Point3, Vector3};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::format::foam::PolyMesh;
+use crate::format::foam::{Label, PolyMesh};
 
 mod screen;
 
@@ -51,22 +51,22 @@ pub struct Geometry {
 }
 
 /// Face centre and area vector of the polygon `f` (`primitiveMeshFaceCentresAndAreas`).
-pub fn face_centre_and_area(points: &[Point3<f64>], f: &[usize]) -> (Point3<f64>, Vector3<f64>) {
+pub fn face_centre_and_area(points: &[Point3<f64>], f: &[Label]) -> (Point3<f64>, Vector3<f64>) {
     let n = f.len();
     if n == 3 {
-        let (a, b, c) = (points[f[0]], points[f[1]], points[f[2]]);
+        let (a, b, c) = (points[f[0] as usize], points[f[1] as usize], points[f[2] as usize]);
         let centre = Point3::from((a.coords + b.coords + c.coords) / 3.0);
         return (centre, 0.5 * (b - a).cross(&(c - a)));
     }
     let mut est = Vector3::zeros();
     for &i in f {
-        est += points[i].coords;
+        est += points[i as usize].coords;
     }
     let est = est / n as f64;
     let (mut sum_n, mut sum_a, mut sum_ac) = (Vector3::zeros(), 0.0, Vector3::zeros());
     for k in 0..n {
-        let p = points[f[k]].coords;
-        let q = points[f[if k + 1 == n { 0 } else { k + 1 }]].coords;
+        let p = points[f[k] as usize].coords;
+        let q = points[f[if k + 1 == n { 0 } else { k + 1 }] as usize].coords;
         let c = p + q + est;
         let nv = (q - p).cross(&(est - p));
         let a = nv.norm();
@@ -133,33 +133,35 @@ pub(crate) struct CellFaces {
 /// Lists per cell: cell `c`'s entries are `items[offsets[c]..offsets[c + 1]]`.
 struct Csr {
     offsets: Vec<usize>,
-    items: Vec<usize>,
+    items: Vec<Label>,
 }
 
 impl Csr {
     /// The faces `f` of each cell `cells[f]` (a counting sort, stable: in face order).
     /// Each cell's count is summed into the end of its run; then the faces are placed
     /// from the back, which leaves each cell's offset at the start of its run.
-    fn by_cell(cells: &[usize], nc: usize) -> Csr {
+    fn by_cell(cells: &[Label], nc: usize) -> Csr {
         let mut offsets = vec![0usize; nc + 1];
         for &c in cells {
-            offsets[c] += 1;
+            offsets[c as usize] += 1;
         }
         let mut sum = 0;
         for o in offsets.iter_mut() {
             sum += *o;
             *o = sum;
         }
-        let mut items = vec![0usize; sum];
+        let mut items = vec![0; sum];
+        // Face numbers fit a label: `PolyMesh` holds fewer than 2³² faces.
         for (f, &c) in cells.iter().enumerate().rev() {
+            let c = c as usize;
             offsets[c] -= 1;
-            items[offsets[c]] = f;
+            items[offsets[c]] = f as Label;
         }
         Csr { offsets, items }
     }
 
     #[inline]
-    fn of(&self, c: usize) -> &[usize] {
+    fn of(&self, c: usize) -> &[Label] {
         &self.items[self.offsets[c]..self.offsets[c + 1]]
     }
 }
@@ -176,8 +178,8 @@ impl CellFaces {
     /// Cell `c`'s faces: (face, whether `c` owns it), those it owns first.
     #[inline]
     fn faces(&self, c: usize) -> impl Iterator<Item = (usize, bool)> + Clone + '_ {
-        let own = self.owned.of(c).iter().map(|&f| (f, true));
-        own.chain(self.neighboured.of(c).iter().map(|&f| (f, false)))
+        let own = self.owned.of(c).iter().map(|&f| (f as usize, true));
+        own.chain(self.neighboured.of(c).iter().map(|&f| (f as usize, false)))
     }
 
     /// The number of faces of cell `c`.
@@ -289,7 +291,7 @@ fn min_by(values: impl Iterator<Item = f64>) -> Worst {
 /// OpenFOAM's `faceSkewness` (internal face) and `boundaryFaceSkewness`.
 fn skewness(
     points: &[Point3<f64>],
-    f: &[usize],
+    f: &[Label],
     fc: &Point3<f64>,
     fa: &Vector3<f64>,
     own: &Point3<f64>,
@@ -307,7 +309,7 @@ fn skewness(
     let sv_hat = sv / (sv.norm() + ROOTVSMALL);
     let mut fd = factor * d.norm() + ROOTVSMALL;
     for &p in f {
-        fd = fd.max(sv_hat.dot(&(points[p] - fc)).abs());
+        fd = fd.max(sv_hat.dot(&(points[p as usize] - fc)).abs());
     }
     sv.norm() / fd
 }
@@ -356,8 +358,8 @@ pub fn face_skewness(mesh: &PolyMesh, g: &Geometry) -> Vec<f64> {
             if skip[f] {
                 return 0.0;
             }
-            let n = if f < ni { Some(&g.cell_centres[nei[f]]) } else { None };
-            skewness(pts, mesh.face(f), &g.face_centres[f], &g.face_areas[f], &g.cell_centres[own[f]], n)
+            let n = if f < ni { Some(&g.cell_centres[nei[f] as usize]) } else { None };
+            skewness(pts, mesh.face(f), &g.face_centres[f], &g.face_areas[f], &g.cell_centres[own[f] as usize], n)
         })
         .collect()
 }
@@ -370,16 +372,16 @@ pub fn cell_skewness(mesh: &PolyMesh, g: &Geometry) -> Vec<f64> {
     let skew = face_skewness(mesh, g);
     let mut out = vec![0.0f64; mesh.n_cells()];
     for (f, &c) in mesh.owner().iter().enumerate() {
-        out[c] = out[c].max(skew[f]);
+        out[c as usize] = out[c as usize].max(skew[f]);
     }
     for (f, &c) in mesh.neighbour().iter().enumerate() {
-        out[c] = out[c].max(skew[f]);
+        out[c as usize] = out[c as usize].max(skew[f]);
     }
     out
 }
 
 /// OpenFOAM's `faceConcavity`: the largest sine of a concave corner (0 for convex faces).
-fn concavity(points: &[Point3<f64>], f: &[usize], fa: &Vector3<f64>) -> f64 {
+fn concavity(points: &[Point3<f64>], f: &[Label], fa: &Vector3<f64>) -> f64 {
     let n = f.len();
     let normal = fa / (fa.norm() + VSMALL);
     let mut max_sin: f64 = 0.0;
@@ -388,7 +390,7 @@ fn concavity(points: &[Point3<f64>], f: &[usize], fa: &Vector3<f64>) -> f64 {
     }
     // The unit edge from point k to point k + 1 (each edge serves two corners).
     let edge = |k: usize| {
-        let d = points[f[if k + 1 == n { 0 } else { k + 1 }]] - points[f[k]];
+        let d = points[f[if k + 1 == n { 0 } else { k + 1 }] as usize] - points[f[k] as usize];
         d / (d.norm() + VSMALL)
     };
     let mut e_prev = edge(n - 1);
@@ -407,7 +409,7 @@ fn concavity(points: &[Point3<f64>], f: &[usize], fa: &Vector3<f64>) -> f64 {
 }
 
 /// OpenFOAM's `faceFlatness`: |area| over the sum of the fan triangles' areas.
-fn flatness(points: &[Point3<f64>], f: &[usize], fc: &Point3<f64>, fa: &Vector3<f64>) -> Option<f64> {
+fn flatness(points: &[Point3<f64>], f: &[Label], fc: &Point3<f64>, fa: &Vector3<f64>) -> Option<f64> {
     let mag = fa.norm();
     if f.len() <= 3 || mag <= ROOTVSMALL {
         return None;
@@ -415,8 +417,8 @@ fn flatness(points: &[Point3<f64>], f: &[usize], fc: &Point3<f64>, fa: &Vector3<
     let n = f.len();
     let mut sum = 0.0;
     for k in 0..n {
-        let p = points[f[k]];
-        let q = points[f[if k + 1 == n { 0 } else { k + 1 }]];
+        let p = points[f[k] as usize];
+        let q = points[f[if k + 1 == n { 0 } else { k + 1 }] as usize];
         sum += (0.5 * (q - p).cross(&(fc - p))).norm();
     }
     Some(mag / (sum + ROOTVSMALL))
@@ -524,8 +526,8 @@ impl FaceChecks {
             let mag = fa.norm();
             lower(&mut a.min_area, Worst { index: f, value: mag });
             higher(&mut a.max_area, Worst { index: f, value: mag });
-            let co = &g.cell_centres[own[f]];
-            let cn = (f < ni).then(|| &g.cell_centres[nei[f]]);
+            let co = &g.cell_centres[own[f] as usize];
+            let cn = (f < ni).then(|| &g.cell_centres[nei[f] as usize]);
             if let Some(cn) = cn {
                 let d = cn - co;
                 let cos = d.dot(fa) / (d.norm() * mag + ROOTVSMALL);

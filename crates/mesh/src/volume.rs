@@ -496,7 +496,7 @@ pub fn patch_constraints(mesh: &PolyMesh, motions: &[(&str, PatchMotion<'_>)]) -
         for f in p.start_face..p.start_face + p.n_faces {
             let face = mesh.face(f);
             let (_, area) = crate::quality::face_centre_and_area(&mesh.points, face);
-            for &v in face {
+            for v in face.iter().map(|&v| v as usize) {
                 match motion {
                     PatchMotion::Follow(d) => {
                         if rank[v] < 3 {

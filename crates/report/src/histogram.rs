@@ -180,7 +180,7 @@ pub fn quality_samples(mesh: &PolyMesh) -> Vec<(&'static str, Vec<f64>)> {
         .iter()
         .enumerate()
         .map(|(f, &n)| {
-            let d = g.cell_centres[n] - g.cell_centres[own[f]];
+            let d = g.cell_centres[n as usize] - g.cell_centres[own[f] as usize];
             let s = g.face_areas[f];
             let c = d.dot(&s) / (d.norm() * s.norm() + 1e-300);
             c.clamp(-1.0, 1.0).acos().to_degrees()
@@ -190,12 +190,12 @@ pub fn quality_samples(mesh: &PolyMesh) -> Vec<(&'static str, Vec<f64>)> {
     let mut smc = vec![[0.0f64; 3]; nc];
     for (f, &c) in own.iter().enumerate() {
         for k in 0..3 {
-            smc[c][k] += g.face_areas[f][k].abs();
+            smc[c as usize][k] += g.face_areas[f][k].abs();
         }
     }
     for (f, &c) in nei.iter().enumerate() {
         for k in 0..3 {
-            smc[c][k] += g.face_areas[f][k].abs();
+            smc[c as usize][k] += g.face_areas[f][k].abs();
         }
     }
     let aspect = (0..nc)

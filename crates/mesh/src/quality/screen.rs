@@ -13,6 +13,7 @@
 use nalgebra::{Point3, Vector3};
 
 use super::ROOTVSMALL;
+use crate::format::foam::Label;
 
 /// A squared length in the range where the tests' margins hold (no underflow to
 /// subnormals, no overflow in products of three of them).
@@ -24,16 +25,16 @@ fn sane(sq: f64) -> bool {
 /// out of each corner, `(a × b) · S_f > 10⁻⁹ |a| |b| |S_f|` (in squares). `concavity`
 /// normalises the edges and the area vector and tests the same product against
 /// `SMALL` = 10⁻¹⁵; the rounding of either side is below 10⁻¹⁴ of the unit product.
-pub(super) fn surely_convex(points: &[Point3<f64>], f: &[usize], fa: &Vector3<f64>) -> bool {
+pub(super) fn surely_convex(points: &[Point3<f64>], f: &[Label], fa: &Vector3<f64>) -> bool {
     let n = f.len();
     let fa2 = fa.norm_squared();
     if n < 3 || !sane(fa2) {
         return false;
     }
-    let mut a = points[f[0]] - points[f[n - 1]];
+    let mut a = points[f[0] as usize] - points[f[n - 1] as usize];
     let mut a2 = a.norm_squared();
     for k in 0..n {
-        let b = points[f[if k + 1 == n { 0 } else { k + 1 }]] - points[f[k]];
+        let b = points[f[if k + 1 == n { 0 } else { k + 1 }] as usize] - points[f[k] as usize];
         let b2 = b.norm_squared();
         let s = a.cross(&b).dot(fa);
         if !(sane(a2) && sane(b2) && s > 0.0 && s * s > 1e-18 * (a2 * b2 * fa2)) {

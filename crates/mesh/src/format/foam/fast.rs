@@ -28,33 +28,33 @@ use rayon::prelude::*;
 const MIN_PIECE: usize = if cfg!(test) { 64 } else { 1 << 20 };
 
 #[inline]
-fn is_ws(c: u8) -> bool {
+pub(super) fn is_ws(c: u8) -> bool {
     matches!(c, b' ' | b'\n' | b'\t' | b'\r' | b'\x0b' | b'\x0c')
 }
 
 /// A cursor over `b[..end]`.
-struct Scan<'a> {
-    b: &'a [u8],
-    pos: usize,
-    end: usize,
+pub(super) struct Scan<'a> {
+    pub(super) b: &'a [u8],
+    pub(super) pos: usize,
+    pub(super) end: usize,
 }
 
 impl Scan<'_> {
     #[inline]
-    fn ws(&mut self) {
+    pub(super) fn ws(&mut self) {
         while self.pos < self.end && is_ws(self.b[self.pos]) {
             self.pos += 1;
         }
     }
 
     #[inline]
-    fn peek(&self) -> Option<u8> {
+    pub(super) fn peek(&self) -> Option<u8> {
         (self.pos < self.end).then(|| self.b[self.pos])
     }
 
     /// An unsigned decimal label of 1 to 18 digits, not followed by a digit.
     #[inline]
-    fn uint(&mut self) -> Option<usize> {
+    pub(super) fn uint(&mut self) -> Option<usize> {
         if self.pos + 8 <= self.end {
             if let Some(w) = self.b.get(self.pos..self.pos + 8) {
                 let w = u64::from_le_bytes([w[0], w[1], w[2], w[3], w[4], w[5], w[6], w[7]]);
@@ -83,8 +83,14 @@ impl Scan<'_> {
         (1..=18).contains(&len).then_some(v as usize)
     }
 
+    /// [`Scan::uint`] of a label below 2³².
     #[inline]
-    fn punct(&mut self, c: u8) -> Option<()> {
+    pub(super) fn label(&mut self) -> Option<u32> {
+        u32::try_from(self.uint()?).ok()
+    }
+
+    #[inline]
+    pub(super) fn punct(&mut self, c: u8) -> Option<()> {
         (self.peek() == Some(c)).then(|| self.pos += 1)
     }
 
@@ -217,17 +223,31 @@ fn split_lengths<'a, T>(mut out: &'a mut [T], lens: &[usize]) -> Vec<&'a mut [T]
     v
 }
 
+/// How many bytes of `b` satisfy `pred`, counted in blocks of up to 255 one-byte lanes (a
+/// form the compiler vectorises).
+#[inline]
+fn count_bytes(b: &[u8], pred: impl Fn(u8, u8) -> bool) -> usize {
+    // `pred(previous, byte)`; the first byte's previous is a space.
+    let mut n = usize::from(b.first().is_some_and(|&c| pred(b' ', c)));
+    for (prev, next) in b.chunks(255).zip(b[1.min(b.len())..].chunks(255)) {
+        n += prev.iter().zip(next).fold(0u8, |a, (&p, &c)| a.wrapping_add(u8::from(pred(p, c)))) as usize;
+    }
+    n
+}
+
+#[inline]
+fn digit(c: u8) -> bool {
+    c.wrapping_sub(b'0') < 10
+}
+
 /// Runs of decimal digits in `b`.
 fn count_numbers(b: &[u8]) -> usize {
-    // Digits that follow a non-digit, in a form the compiler vectorises.
-    let digit = |c: u8| c.wrapping_sub(b'0') < 10;
-    let first = usize::from(b.first().is_some_and(|&c| digit(c)));
-    first + b.iter().zip(&b[1.min(b.len())..]).map(|(&a, &c)| usize::from(digit(c) & !digit(a))).sum::<usize>()
+    count_bytes(b, |p, c| digit(c) & !digit(p))
 }
 
 /// Exactly `n` unsigned labels from `b[start..]` up to the list's `)`: the labels and the
 /// offset of that `)`.
-pub(crate) fn labels(b: &[u8], start: usize, n: usize) -> Option<(Vec<usize>, usize)> {
+pub(crate) fn labels(b: &[u8], start: usize, n: usize) -> Option<(Vec<u32>, usize)> {
     let close = start + memchr::memchr(b')', &b[start..])?;
     let body = &b[..close];
     // A label list has one label per line.
@@ -236,7 +256,7 @@ pub(crate) fn labels(b: &[u8], start: usize, n: usize) -> Option<(Vec<usize>, us
     if counts.iter().sum::<usize>() != n {
         return None;
     }
-    let mut out = vec![0usize; n];
+    let mut out = vec![0u32; n];
     let ends: Vec<Option<End>> = ranges
         .into_par_iter()
         .zip(split_lengths(&mut out, &counts))
@@ -244,7 +264,7 @@ pub(crate) fn labels(b: &[u8], start: usize, n: usize) -> Option<(Vec<usize>, us
             let mut s = Scan { b: body, pos: r.start, end: r.end };
             for v in slot.iter_mut() {
                 s.ws();
-                *v = s.uint()?;
+                *v = s.label()?;
             }
             s.ws();
             (s.pos == s.end).then_some(if s.end == close { End::Close(close) } else { End::Range })
@@ -255,32 +275,22 @@ pub(crate) fn labels(b: &[u8], start: usize, n: usize) -> Option<(Vec<usize>, us
 }
 
 /// Whether `line` begins a one-line face record `k(`.
-fn starts_face(line: &[u8]) -> bool {
+pub(super) fn starts_face(line: &[u8]) -> bool {
     let digits = line.iter().take(19).take_while(|c| c.is_ascii_digit()).count();
     digits > 0 && line.get(digits) == Some(&b'(')
 }
 
-/// Faces and labels in a piece of a face list: one `(` per face, its size in the digits
-/// before it (and white space). `None` when a `(` has no size before it.
+/// Faces and labels in a piece of a face list: one `(` per face and, among the runs of
+/// digits, one size per face and its labels. A piece that holds anything else is caught
+/// by the parse that follows (its faces must then fill exactly these counts).
 fn count_faces(b: &[u8]) -> Option<(usize, usize)> {
-    let (mut faces, mut labels) = (0usize, 0usize);
-    for p in memchr::memchr_iter(b'(', b) {
-        // The size, then white space (the multi-line form puts `(` on its own line).
-        let end = p - b[..p].iter().rev().take(64).take_while(|&&c| is_ws(c)).count();
-        let digits = b[..end].iter().rev().take(19).take_while(|c| c.is_ascii_digit()).count();
-        if digits == 0 || digits > 18 {
-            return None;
-        }
-        let k = b[end - digits..end].iter().fold(0usize, |v, &c| v * 10 + (c - b'0') as usize);
-        faces += 1;
-        labels = labels.checked_add(k)?;
-    }
-    Some((faces, labels))
+    let faces = count_bytes(b, |_, c| c == b'(');
+    Some((faces, count_numbers(b).checked_sub(faces)?))
 }
 
 /// Exactly `n` faces `k(a b …)` from `b[start..]` up to the list's `)`: CSR offsets
 /// (`n + 1`), the flat point labels, and the offset of that `)`.
-pub(crate) fn faces(b: &[u8], start: usize, n: usize) -> Option<(Vec<usize>, Vec<usize>, usize)> {
+pub(crate) fn faces(b: &[u8], start: usize, n: usize) -> Option<(Vec<usize>, Vec<u32>, usize)> {
     let ranges = pieces(b, start, starts_face);
     let counts: Vec<Option<(usize, usize)>> = ranges.par_iter().map(|r| count_faces(&b[r.clone()])).collect();
     let counts: Vec<(usize, usize)> = counts.into_iter().collect::<Option<_>>()?;
@@ -291,7 +301,7 @@ pub(crate) fn faces(b: &[u8], start: usize, n: usize) -> Option<(Vec<usize>, Vec
     }
     // offsets[0] = 0, then each face's size, summed in place below.
     let mut offsets = vec![0usize; n + 1];
-    let mut labels = vec![0usize; n_labels];
+    let mut labels = vec![0u32; n_labels];
     let face_lens: Vec<usize> = counts.iter().map(|c| c.0).collect();
     let label_lens: Vec<usize> = counts.iter().map(|c| c.1).collect();
     let ends: Vec<Option<End>> = ranges
@@ -309,7 +319,7 @@ pub(crate) fn faces(b: &[u8], start: usize, n: usize) -> Option<(Vec<usize>, Vec
                 *size = k;
                 for v in slot.get_mut(at..at.checked_add(k)?)? {
                     s.ws();
-                    *v = s.uint()?;
+                    *v = s.label()?;
                 }
                 at += k;
                 s.ws();
@@ -339,7 +349,9 @@ pub(crate) fn points(b: &[u8], start: usize, n: usize) -> Option<(Vec<PointRecor
     if counts.iter().sum::<usize>() != n {
         return None;
     }
-    let mut out = vec![(0..0, Point3::origin()); n];
+    // Filled in parallel: the fresh pages are faulted in by both threads.
+    let mut out = Vec::with_capacity(n);
+    out.par_extend(rayon::iter::repeat_n((0..0, Point3::origin()), n));
     let ends: Vec<Option<End>> = ranges
         .into_par_iter()
         .zip(split_lengths(&mut out, &counts))
@@ -366,7 +378,7 @@ pub(crate) fn points(b: &[u8], start: usize, n: usize) -> Option<(Vec<PointRecor
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use proptest::prelude::*;
 
     use super::super::file::{self, Lexer};
@@ -376,7 +388,7 @@ mod tests {
 
     /// A face list as OpenFOAM writes it: faces under 10 points on one line, longer ones
     /// in the multi-line form.
-    fn face_text(faces: &[Vec<usize>], footer: &str) -> String {
+    pub(in super::super) fn face_text(faces: &[Vec<usize>], footer: &str) -> String {
         let mut s = format!("{HEAD}\n\n{}\n(\n", faces.len());
         for f in faces {
             if f.len() < 10 {
@@ -393,9 +405,9 @@ mod tests {
         s + ")\n" + footer
     }
 
-    fn slow_faces(text: &str) -> (Vec<usize>, Vec<usize>) {
+    fn slow_faces(text: &str) -> (Vec<usize>, Vec<u32>) {
         let (_, off, flat) = file::face_list(text.as_bytes()).unwrap();
-        (off, flat.into_iter().map(|v| v as usize).collect())
+        (off, flat.into_iter().map(|v| v as u32).collect())
     }
 
     proptest! {
@@ -447,7 +459,7 @@ mod tests {
             text += ")\n// end\n";
             let (_, slow) = file::label_list(text.as_bytes()).unwrap();
             let fast = file::label_list_fast(text.as_bytes()).map(|(_, v)| v);
-            prop_assert_eq!(fast, Some(slow.into_iter().map(|v| v as usize).collect::<Vec<_>>()));
+            prop_assert_eq!(fast, Some(slow.into_iter().map(|v| v as u32).collect::<Vec<_>>()));
         }
 
         /// Points: each coordinate read to the same bits as `str::parse` reads it.

@@ -248,33 +248,36 @@ pub(crate) fn label_list(bytes: &[u8]) -> Result<(Header, Vec<i64>)> {
 }
 
 /// A `labelList` file through the fast path ([`super::fast::labels`] for ASCII, a direct
-/// read for binary): `None` when it is not a plain list of non-negative labels (then
+/// read for binary): `None` when it is not a plain list of labels from 0 to 2³² − 1 (then
 /// [`label_list`] reads it, or names what is wrong).
-pub(crate) fn label_list_fast(bytes: &[u8]) -> Option<(Header, Vec<usize>)> {
+pub(crate) fn label_list_fast(bytes: &[u8]) -> Option<(Header, Vec<u32>)> {
     let mut lx = Lexer::new(bytes);
     let h = read_header(&mut lx).ok()?;
     let v = fast_labels(&mut lx, &h)?;
     Some((h, v))
 }
 
-/// One list of non-negative labels at the lexer, ASCII or binary, through the fast path;
-/// the lexer stands after its `)`.
-fn fast_labels(lx: &mut Lexer<'_>, h: &Header) -> Option<Vec<usize>> {
+/// One list of labels from 0 to 2³² − 1 at the lexer, ASCII or binary, through the fast
+/// path; the lexer stands after its `)`.
+fn fast_labels(lx: &mut Lexer<'_>, h: &Header) -> Option<Vec<u32>> {
     let n = lx.count(lx.bytes.len()).ok()?;
     lx.expect(b'(', "").ok()?;
     let v = if h.binary {
         let w = h.label_bytes;
         let body = lx.bytes.get(lx.pos..lx.pos.checked_add(n.checked_mul(w)?)?)?;
         lx.pos += body.len();
-        let v: Vec<i64> = if w == 4 {
-            body.chunks_exact(4).map(|c| i32::from_le_bytes([c[0], c[1], c[2], c[3]]) as i64).collect()
+        if w == 4 {
+            let v: Vec<u32> = body.chunks_exact(4).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();
+            // Negative 32-bit labels have the top bit set.
+            if v.iter().any(|&x| x > i32::MAX as u32) {
+                return None;
+            }
+            v
         } else {
-            body.chunks_exact(8).map(|c| i64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]])).collect()
-        };
-        if v.iter().any(|&x| x < 0) {
-            return None;
+            body.chunks_exact(8)
+                .map(|c| u32::try_from(i64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]])).ok())
+                .collect::<Option<_>>()?
         }
-        v.into_iter().map(|x| x as usize).collect()
     } else {
         let (v, close) = super::fast::labels(lx.bytes, lx.pos, n)?;
         lx.pos = close;
@@ -287,13 +290,14 @@ fn fast_labels(lx: &mut Lexer<'_>, h: &Header) -> Option<Vec<usize>> {
 /// A `faceList` file through the fast path ([`super::fast::faces`]; a `faceCompactList`
 /// or binary file as its two label lists): CSR offsets and point labels, or `None` when
 /// it is not a plain face list (then [`face_list`] reads it, or names what is wrong).
-pub(crate) fn face_list_fast(bytes: &[u8]) -> Option<(Header, Vec<usize>, Vec<usize>)> {
+pub(crate) fn face_list_fast(bytes: &[u8]) -> Option<(Header, Vec<usize>, Vec<u32>)> {
     let mut lx = Lexer::new(bytes);
     let h = read_header(&mut lx).ok()?;
     if h.binary || h.class == "faceCompactList" {
         let offsets = fast_labels(&mut lx, &h)?;
         let points = fast_labels(&mut lx, &h)?;
-        let spans = offsets.first() == Some(&0) && offsets.last() == Some(&points.len());
+        let spans = offsets.first() == Some(&0) && offsets.last().map(|&o| o as usize) == Some(points.len());
+        let offsets: Vec<usize> = offsets.into_iter().map(|o| o as usize).collect();
         return (spans && offsets.windows(2).all(|w| w[0] <= w[1])).then_some((h, offsets, points));
     }
     let n = lx.count(bytes.len()).ok()?;

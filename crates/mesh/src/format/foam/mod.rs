@@ -7,6 +7,7 @@
 mod fast;
 mod file;
 mod points;
+mod stream;
 
 pub use file::Header;
 pub use points::FoamPoints;
@@ -18,6 +19,7 @@ use rayon::prelude::*;
 
 use crate::error::io;
 use crate::{Error, Result};
+use stream::Kept;
 
 /// A boundary patch (an entry of the `boundary` file).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -32,6 +34,15 @@ pub struct Patch {
     pub n_faces: usize,
 }
 
+/// A point or cell label as a mesh keeps it: 32 bits, OpenFOAM's default label size
+/// (`WM_LABEL_SIZE=32`). Files written with 64-bit labels are read while their labels fit
+/// (a mesh with 2³² points or cells would need hundreds of GB here); half the memory of
+/// `usize` labels, and for a 10⁶-cell mesh about 100 MB fewer fresh pages to fault in.
+pub type Label = u32;
+
+/// A face list as CSR: offsets (one more than the faces) into the faces' point labels.
+type FaceLists = (Vec<usize>, Vec<Label>);
+
 /// An OpenFOAM polyhedral mesh: points, faces (as point lists, right-hand normal from
 /// owner to neighbour), owner and neighbour cells of each face, boundary patches.
 #[derive(Debug, Clone)]
@@ -39,19 +50,20 @@ pub struct PolyMesh {
     /// The points (the only part a morph changes).
     pub points: Vec<Point3<f64>>,
     face_offsets: Vec<usize>,
-    face_points: Vec<usize>,
-    owner: Vec<usize>,
-    neighbour: Vec<usize>,
+    face_points: Vec<Label>,
+    owner: Vec<Label>,
+    neighbour: Vec<Label>,
     n_cells: usize,
     patches: Vec<Patch>,
     source: Option<Source>,
 }
 
-/// The files a mesh was read from, kept for lossless writing.
+/// The files a mesh was read from, kept for lossless writing (the streamed `faces`,
+/// `owner` and `neighbour` lists as where they are on disk, see [`stream::Kept`]).
 #[derive(Debug, Clone)]
 struct Source {
     /// Every regular file of the directory: name and bytes as on disk.
-    files: Vec<(String, Vec<u8>)>,
+    files: Vec<(String, Kept)>,
     /// The parsed points file and whether it was gzipped.
     points: FoamPoints,
     points_gz: bool,
@@ -76,11 +88,17 @@ impl PolyMesh {
         let mut face_offsets = Vec::with_capacity(faces.len() + 1);
         face_offsets.push(0);
         let mut face_points = Vec::with_capacity(faces.len() * 4);
-        for f in &faces {
-            face_points.extend_from_slice(f);
+        for (i, f) in faces.iter().enumerate() {
+            for &p in f {
+                face_points.push(label(p, "face", i, "point")?);
+            }
             face_offsets.push(face_points.len());
         }
         let n_cells = owner.iter().chain(neighbour.iter()).map(|&c| c + 1).max().unwrap_or(0);
+        let labels = |v: Vec<usize>, what| {
+            v.into_iter().enumerate().map(|(i, c)| label(c, what, i, "cell")).collect::<Result<Vec<_>>>()
+        };
+        let (owner, neighbour) = (labels(owner, "owner entry of face")?, labels(neighbour, "neighbour entry of face")?);
         let m = PolyMesh { points, face_offsets, face_points, owner, neighbour, n_cells, patches, source: None };
         m.validate()?;
         Ok(m)
@@ -100,8 +118,10 @@ impl PolyMesh {
         let dir =
             if dir.join("constant/polyMesh").is_dir() { dir.join("constant/polyMesh") } else { dir.to_path_buf() };
         // Every regular file of the directory is read once and kept as on disk for
-        // lossless writing. The four lists, nearly all of a mesh, are each read and parsed
-        // in one task, the tasks in parallel (one file's parse overlaps another's read).
+        // lossless writing: first all of them in parallel (copies out of the page cache into
+        // fresh pages, no parse), then the four lists, nearly all of a mesh, parsed in
+        // parallel, each also cut into pieces that run in parallel (so no thread waits for
+        // another's big file).
         let mut paths = Vec::new();
         for e in std::fs::read_dir(&dir).map_err(io(&dir))? {
             let e = e.map_err(io(&dir))?;
@@ -111,80 +131,98 @@ impl PolyMesh {
             }
         }
         paths.sort();
-        // `name`, else `name.gz`: its file name, path and whether it is gzipped.
-        let locate = |name: &str| -> Result<(String, PathBuf, bool)> {
+        // `name`, else `name.gz`: its index in `paths` and whether it is gzipped.
+        let locate = |name: &str| -> Result<(usize, bool)> {
             let gz = format!("{name}.gz");
             for (want, is_gz) in [(name, false), (gz.as_str(), true)] {
-                if let Some((n, p)) = paths.iter().find(|(n, _)| n == want) {
-                    return Ok((n.clone(), p.clone(), is_gz));
+                if let Some(k) = paths.iter().position(|(n, _)| n == want) {
+                    return Ok((k, is_gz));
                 }
             }
             Err(missing(&dir, name))
         };
-        // Read a located file: its bytes as on disk, and decompressed when gzipped.
-        let load = |(_, path, gz): &(String, PathBuf, bool)| -> Result<(Vec<u8>, Option<Vec<u8>>)> {
-            let raw = std::fs::read(path).map_err(io(path))?;
-            let plain =
-                if *gz { Some(file::maybe_gunzip(raw.clone(), true).map_err(|e| e.in_file(path))?) } else { None };
-            Ok((raw, plain))
-        };
         let (lp, lf, lo, ln) = (locate("points")?, locate("faces")?, locate("owner")?, locate("neighbour")?);
-        let (pp, fp, op) = (lp.1.clone(), lf.1.clone(), lo.1.clone());
-        let big = [&lp.0, &lf.0, &lo.0, &ln.0];
-        let ((points, faces), ((owner, neighbour), others)) = rayon::join(
-            || {
-                rayon::join(
-                    // A plain points file is handed to the points reader, which keeps it as
-                    // its text (its entry in `files` stays empty; `to_files` writes it).
-                    || -> Result<_> {
-                        let raw = std::fs::read(&pp).map_err(io(&pp))?;
-                        Ok(if lp.2 {
-                            let text = file::maybe_gunzip(raw.clone(), true).map_err(|e| e.in_file(&pp))?;
-                            (raw, FoamPoints::parse_owned(text).map_err(|e| e.in_file(&pp))?)
-                        } else {
-                            (Vec::new(), FoamPoints::parse_owned(raw).map_err(|e| e.in_file(&pp))?)
-                        })
-                    },
-                    || -> Result<_> {
-                        let (raw, plain) = load(&lf)?;
-                        let parsed = read_faces(plain.as_deref().unwrap_or(&raw), &fp)?;
-                        Ok((raw, parsed))
-                    },
-                )
+        let boundary = locate("boundary")?;
+        // The faces, owner and neighbour lists are streamed and the points file read by its
+        // parse task (below); the other files read here.
+        let streamed = [lf.0, lo.0, ln.0];
+        let mut files: Vec<(String, Vec<u8>)> = paths
+            .par_iter()
+            .enumerate()
+            .with_max_len(1)
+            .map(|(k, (n, p))| {
+                let later = streamed.contains(&k) || k == lp.0;
+                Ok((n.clone(), if later { Vec::new() } else { std::fs::read(p).map_err(io(p))? }))
+            })
+            .collect::<Result<_>>()?;
+        let path = |l: (usize, bool)| paths[l.0].1.clone();
+        let (pp, fp, op) = (path(lp), path(lf), path(lo));
+        // A gzipped file's text (the file stays as on disk).
+        let plain = |l: (usize, bool), bytes: &[u8]| -> Result<Option<Vec<u8>>> {
+            Ok(if l.1 {
+                Some(file::maybe_gunzip(bytes.to_vec(), true).map_err(|e| e.in_file(&paths[l.0].1))?)
+            } else {
+                None
+            })
+        };
+        let (points, (faces, (owner, neighbour))) = rayon::join(
+            // A plain points file is handed to the points reader, which keeps it as its text
+            // (its entry in `files` stays empty; `to_files` writes it); a gzipped one is kept
+            // as on disk.
+            || -> Result<(Vec<u8>, FoamPoints)> {
+                let raw = std::fs::read(&pp).map_err(io(&pp))?;
+                match plain(lp, &raw)? {
+                    Some(text) => Ok((raw, FoamPoints::parse_owned(text).map_err(|e| e.in_file(&pp))?)),
+                    None => Ok((Vec::new(), FoamPoints::parse_owned(raw).map_err(|e| e.in_file(&pp))?)),
+                }
             },
             || {
-                let cells = |l: &(String, PathBuf, bool), what: &'static str| -> Result<_> {
-                    let (raw, plain) = load(l)?;
-                    let parsed = read_cells(plain.as_deref().unwrap_or(&raw), what, &l.1)?;
-                    Ok((raw, parsed))
+                // Streamed when plain ASCII, else read whole (and kept) and parsed.
+                let whole = |l: (usize, bool)| -> Result<(Vec<u8>, Option<Vec<u8>>)> {
+                    let p = &paths[l.0].1;
+                    let raw = std::fs::read(p).map_err(io(p))?;
+                    let text = plain(l, &raw)?;
+                    Ok((raw, text))
                 };
                 rayon::join(
-                    || rayon::join(|| cells(&lo, "owner entry of face"), || cells(&ln, "neighbour entry of face")),
-                    || -> Result<Vec<(String, Vec<u8>)>> {
-                        paths
-                            .par_iter()
-                            .filter(|(n, _)| !big.contains(&n))
-                            .map(|(n, p)| Ok((n.clone(), std::fs::read(p).map_err(io(p))?)))
-                            .collect()
+                    || -> Result<(FaceLists, Kept)> {
+                        if let Some((_, faces, kept)) = stream::faces(&fp)? {
+                            return Ok((faces, kept));
+                        }
+                        let (raw, text) = whole(lf)?;
+                        Ok((read_faces(text.as_deref().unwrap_or(&raw), &fp)?, Kept::Bytes(raw)))
+                    },
+                    || {
+                        let cells =
+                            |l: (usize, bool), what: &'static str| -> Result<((file::Header, Vec<Label>), Kept)> {
+                                let p = &paths[l.0].1;
+                                if let Some((h, v, kept)) = stream::labels(p)? {
+                                    if let Some(i) = first_where(&v, |c| c > i32::MAX as Label) {
+                                        return Err(cell_out_of_range(what, i, v[i] as i64).in_file(p));
+                                    }
+                                    return Ok(((h, v), kept));
+                                }
+                                let (raw, text) = whole(l)?;
+                                Ok((read_cells(text.as_deref().unwrap_or(&raw), what, p)?, Kept::Bytes(raw)))
+                            };
+                        rayon::join(|| cells(lo, "owner entry of face"), || cells(ln, "neighbour entry of face"))
                     },
                 )
             },
         );
-        let ((points_raw, points), (faces_raw, faces)) = (points?, faces?);
-        let ((owner_raw, owner), (neighbour_raw, neighbour)) = (owner?, neighbour?);
-        let mut files = others?;
-        files.extend([(lp.0, points_raw), (lf.0, faces_raw), (lo.0, owner_raw), (ln.0, neighbour_raw)]);
-        files.sort_by(|a, b| a.0.cmp(&b.0));
-        let points_gz = lp.2;
-        let boundary = locate("boundary")?;
-        let patches = match files.iter().find(|(n, _)| *n == boundary.0) {
-            Some((_, b)) if boundary.2 => {
-                read_boundary(&file::maybe_gunzip(b.clone(), true).map_err(|e| e.in_file(&boundary.1))?)
-            }
-            Some((_, b)) => read_boundary(b),
-            None => Err(missing(&dir, "boundary")),
+        let ((points_raw, points), (faces, faces_kept), (owner, owner_kept), (neighbour, neighbour_kept)) =
+            (points?, faces?, owner?, neighbour?);
+        files[lp.0].1 = points_raw;
+        let patches = match plain(boundary, &files[boundary.0].1)? {
+            Some(text) => read_boundary(&text),
+            None => read_boundary(&files[boundary.0].1),
         }
-        .map_err(|e| e.in_file(&boundary.1))?;
+        .map_err(|e| e.in_file(&paths[boundary.0].1))?;
+        let mut files: Vec<(String, Kept)> = files.into_iter().map(|(n, b)| (n, Kept::Bytes(b))).collect();
+        for (k, kept) in streamed.into_iter().zip([faces_kept, owner_kept, neighbour_kept]) {
+            files[k].1 = kept;
+        }
+        let points_gz = lp.1;
         let ((face_offsets, face_points), (oh, owner), (_, neighbour)) = (faces, owner, neighbour);
         // The mesh takes the points; the kept file compares against its records.
         let mut points = points;
@@ -192,8 +230,8 @@ impl PolyMesh {
         let np_ = mesh_points.len();
         // A parallel scan for the largest label first; the search for the first bad one
         // only when there is one (so also below).
-        let bad_point = face_points.par_iter().max().is_some_and(|&m| m >= np_);
-        if let Some(k) = if bad_point { first_where(&face_points, |v| v >= np_) } else { None } {
+        let bad_point = face_points.par_iter().max().is_some_and(|&m| m as usize >= np_);
+        if let Some(k) = if bad_point { first_where(&face_points, |v| v as usize >= np_) } else { None } {
             let face = face_offsets.partition_point(|&o| o <= k).saturating_sub(1);
             return Err(Error::OutOfRange {
                 what: "face",
@@ -204,7 +242,7 @@ impl PolyMesh {
             }
             .in_file(&fp));
         }
-        let n_from_data = owner.par_iter().chain(neighbour.par_iter()).map(|&c| c + 1).max().unwrap_or(0);
+        let n_from_data = owner.par_iter().chain(neighbour.par_iter()).map(|&c| c as usize + 1).max().unwrap_or(0);
         // The owner note gives nCells; a label beyond it is out of range.
         let n_cells = note_value(&oh.note, "nCells").unwrap_or(n_from_data);
         if n_from_data > n_cells {
@@ -212,7 +250,7 @@ impl PolyMesh {
                 .iter()
                 .enumerate()
                 .chain(neighbour.iter().enumerate())
-                .find(|(_, &c)| c >= n_cells)
+                .find(|(_, &c)| c as usize >= n_cells)
                 .map(|(i, &c)| (i, c))
                 .unwrap_or((0, 0));
             return Err(Error::OutOfRange {
@@ -240,6 +278,9 @@ impl PolyMesh {
 
     fn validate(&self) -> Result<()> {
         let nf = self.n_faces();
+        if nf > Label::MAX as usize {
+            return Err(Error::Topology(format!("{nf} faces: more than a 32-bit label can number ({})", Label::MAX)));
+        }
         if self.owner.len() != nf {
             return Err(Error::CountMismatch {
                 what: "owner entries (one per face)".into(),
@@ -258,12 +299,12 @@ impl PolyMesh {
         // The face-by-face search for the first bad face runs only when a quick scan (of
         // the sizes, and of the largest point label) finds one.
         let short = self.face_offsets.par_windows(2).any(|w| w[1] < w[0].saturating_add(3));
-        let beyond = self.face_points.par_iter().max().is_some_and(|&m| m >= self.points.len());
+        let beyond = self.face_points.par_iter().max().is_some_and(|&m| m as usize >= self.points.len());
         for (i, f) in (0..if short || beyond { nf } else { 0 }).map(|i| (i, self.face(i))) {
             if f.len() < 3 {
                 return Err(Error::Topology(format!("face {i} has {} points; a face needs 3 or more", f.len())));
             }
-            if let Some(&p) = f.iter().find(|&&p| p >= self.points.len()) {
+            if let Some(&p) = f.iter().find(|&&p| p as usize >= self.points.len()) {
                 return Err(Error::OutOfRange {
                     what: "face",
                     index: i,
@@ -274,9 +315,10 @@ impl PolyMesh {
             }
         }
         let (own, nei, nc) = (&self.owner[..ni.min(self.owner.len())], &self.neighbour[..], self.n_cells);
-        let bad_cells = own.par_iter().zip(nei.par_iter()).any(|(&o, &n)| n >= nc || o >= nc || n == o);
+        let bad_cells =
+            own.par_iter().zip(nei.par_iter()).any(|(&o, &n)| n as usize >= nc || o as usize >= nc || n == o);
         for i in 0..if bad_cells { ni } else { 0 } {
-            if self.neighbour[i] >= self.n_cells || self.owner[i] >= self.n_cells {
+            if self.neighbour[i] as usize >= nc || self.owner[i] as usize >= nc {
                 return Err(Error::OutOfRange {
                     what: "face",
                     index: i,
@@ -302,11 +344,18 @@ impl PolyMesh {
         if next != nf {
             return Err(Error::Topology(format!("the patches cover faces up to {next}, but there are {nf} faces ({ni} internal): dangling boundary faces")));
         }
-        let mut n_faces_of = vec![0u32; self.n_cells];
-        for &c in self.owner.iter().chain(self.neighbour.iter()) {
-            n_faces_of[c] += 1;
-        }
-        if let Some((c, &k)) = n_faces_of.iter().enumerate().find(|(_, &k)| k < 4) {
+        // Faces per cell: the owner and the neighbour list counted in parallel.
+        let count = |cells: &[Label]| {
+            let mut n = vec![0u32; self.n_cells];
+            for &c in cells {
+                n[c as usize] += 1;
+            }
+            n
+        };
+        let (by_owner, by_neighbour) = rayon::join(|| count(&self.owner), || count(&self.neighbour));
+        let few = by_owner.par_iter().zip(&by_neighbour).any(|(a, b)| a + b < 4);
+        let n_faces_of = by_owner.iter().zip(&by_neighbour).map(|(a, b)| a + b);
+        if let Some((c, k)) = n_faces_of.enumerate().take(if few { usize::MAX } else { 0 }).find(|&(_, k)| k < 4) {
             return Err(Error::Topology(format!("cell {c} has {k} faces; a closed cell needs 4 or more")));
         }
         crate::text::check_finite(&self.points)
@@ -326,15 +375,15 @@ impl PolyMesh {
     }
     /// The point labels of face `i`.
     #[inline]
-    pub fn face(&self, i: usize) -> &[usize] {
+    pub fn face(&self, i: usize) -> &[Label] {
         &self.face_points[self.face_offsets[i]..self.face_offsets[i + 1]]
     }
     /// Owner cell of each face.
-    pub fn owner(&self) -> &[usize] {
+    pub fn owner(&self) -> &[Label] {
         &self.owner
     }
     /// Neighbour cell of each internal face.
-    pub fn neighbour(&self) -> &[usize] {
+    pub fn neighbour(&self) -> &[Label] {
         &self.neighbour
     }
     /// The boundary patches.
@@ -346,9 +395,13 @@ impl PolyMesh {
     /// with `points` (or `points.gz`) rewritten in its own format when a point moved; a
     /// mesh made by [`PolyMesh::try_new`] gets fresh ASCII files.
     ///
+    /// The `faces`, `owner` and `neighbour` files, streamed by [`PolyMesh::read`] and not
+    /// held in memory, are read again from where they were read.
+    ///
     /// # Errors
     ///
-    /// [`Error::CountMismatch`] when the point count changed.
+    /// [`Error::CountMismatch`] when the point count changed; [`Error::Io`] when a file
+    /// left on disk cannot be read or changed (size or modification time) since.
     pub fn to_files(&self) -> Result<Vec<(PathBuf, Vec<u8>)>> {
         let Some(src) = &self.source else {
             return Ok(self.fresh_files());
@@ -358,20 +411,33 @@ impl PolyMesh {
         let bytes = p.write()?;
         let (name, bytes) = if src.points_gz { ("points.gz", file::gzip(&bytes)) } else { ("points", bytes) };
         let unchanged = src.points.is_as_read(&self.points);
-        Ok(src
-            .files
+        src.files
             .iter()
             .map(|(n, b)| {
                 // The plain points file's entry is empty (the reader kept it): its lossless
                 // write is the file as read when no point moved. A gzipped one is kept as
                 // read unless a point moved.
-                if n == name && (!unchanged || !src.points_gz) {
+                Ok(if n == name && (!unchanged || !src.points_gz) {
                     (PathBuf::from(n), bytes.clone())
                 } else {
-                    (PathBuf::from(n), b.clone())
-                }
+                    (PathBuf::from(n), b.bytes(|bytes| self.holds_list_of(n, bytes))?)
+                })
             })
-            .collect())
+            .collect()
+    }
+
+    /// Whether `bytes`, the file `name` of a polyMesh directory, hold this mesh's faces,
+    /// owner or neighbour list.
+    fn holds_list_of(&self, name: &str, bytes: &[u8]) -> bool {
+        let cells = |v: &[Label]| file::label_list_fast(bytes).is_some_and(|(_, w)| w == v);
+        match name {
+            "faces" => {
+                file::face_list_fast(bytes).is_some_and(|(_, o, p)| o == self.face_offsets && p == self.face_points)
+            }
+            "owner" => cells(&self.owner),
+            "neighbour" => cells(&self.neighbour),
+            _ => false,
+        }
     }
 
     /// Write the mesh as the `polyMesh` directory `dir` (atomically: into a temporary
@@ -414,7 +480,7 @@ impl PolyMesh {
             faces.push_str(")\n");
         }
         faces.push_str(")\n");
-        let labels = |object: &str, v: &[usize]| {
+        let labels = |object: &str, v: &[Label]| {
             let mut s = head("labelList", object, &note);
             let _ = writeln!(s, "{}\n(", v.len());
             for c in v {
@@ -439,6 +505,22 @@ impl PolyMesh {
     }
 }
 
+/// `v` as a [`Label`], or the error naming the entry (`what` `index`) that holds it.
+fn label(v: usize, what: &'static str, index: usize, target_kind: &'static str) -> Result<Label> {
+    Label::try_from(v).map_err(|_| Error::OutOfRange {
+        what,
+        index,
+        target_kind,
+        target: v as i64,
+        count: Label::MAX as usize,
+    })
+}
+
+/// A cell label that no 32-bit OpenFOAM label holds (negative, or beyond 2³¹ − 1).
+fn cell_out_of_range(what: &'static str, index: usize, target: i64) -> Error {
+    Error::OutOfRange { what, index, target_kind: "cell", target, count: 0 }
+}
+
 /// `key:value` from an owner file's `note` (`"nPoints:882 nCells:400 …"`).
 /// A required polyMesh file that is not there (nor gzipped).
 fn missing(dir: &Path, name: &str) -> Error {
@@ -450,36 +532,35 @@ fn missing(dir: &Path, name: &str) -> Error {
 
 /// The first index of `v` where `bad` holds (a scan of the whole slice: a check that
 /// expects no hit; rayon's item-wise `position_first` costs more than the scan).
-fn first_where(v: &[usize], bad: impl Fn(usize) -> bool) -> Option<usize> {
+fn first_where(v: &[Label], bad: impl Fn(Label) -> bool) -> Option<usize> {
     v.iter().position(|&x| bad(x))
 }
 
 /// The faces file: CSR offsets and point labels (not yet checked against the point
 /// count), through the fast path when it can.
-fn read_faces(bytes: &[u8], path: &Path) -> Result<(Vec<usize>, Vec<usize>)> {
+fn read_faces(bytes: &[u8], path: &Path) -> Result<FaceLists> {
     if let Some((_, offsets, points)) = file::face_list_fast(bytes) {
         return Ok((offsets, points));
     }
     let (_, offsets, flat) = file::face_list(bytes).map_err(|e| e.in_file(path))?;
     let mut points = Vec::with_capacity(flat.len());
     for (k, &v) in flat.iter().enumerate() {
-        if v < 0 {
+        if v < 0 || v > Label::MAX as i64 {
             let face = offsets.partition_point(|&o| o <= k).saturating_sub(1);
             return Err(Error::OutOfRange { what: "face", index: face, target_kind: "point", target: v, count: 0 }
                 .in_file(path));
         }
-        points.push(v as usize);
+        points.push(v as Label);
     }
     Ok((offsets, points))
 }
 
 /// An owner or neighbour file: its header and cell labels (`what` names an entry in
 /// errors), through the fast path when it can.
-fn read_cells(bytes: &[u8], what: &'static str, path: &Path) -> Result<(file::Header, Vec<usize>)> {
-    let out_of_range =
-        |i: usize, c: i64| Error::OutOfRange { what, index: i, target_kind: "cell", target: c, count: 0 }.in_file(path);
+fn read_cells(bytes: &[u8], what: &'static str, path: &Path) -> Result<(file::Header, Vec<Label>)> {
+    let out_of_range = |i: usize, c: i64| cell_out_of_range(what, i, c).in_file(path);
     if let Some((h, v)) = file::label_list_fast(bytes) {
-        if let Some(i) = first_where(&v, |c| c > i32::MAX as usize) {
+        if let Some(i) = first_where(&v, |c| c > i32::MAX as Label) {
             return Err(out_of_range(i, v[i] as i64));
         }
         return Ok((h, v));
@@ -488,7 +569,7 @@ fn read_cells(bytes: &[u8], what: &'static str, path: &Path) -> Result<(file::He
     let cells = v
         .into_iter()
         .enumerate()
-        .map(|(i, c)| if c < 0 || c > i32::MAX as i64 { Err(out_of_range(i, c)) } else { Ok(c as usize) })
+        .map(|(i, c)| if c < 0 || c > i32::MAX as i64 { Err(out_of_range(i, c)) } else { Ok(c as Label) })
         .collect::<Result<_>>()?;
     Ok((h, cells))
 }

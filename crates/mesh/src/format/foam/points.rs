@@ -5,6 +5,7 @@
 use std::ops::Range;
 
 use nalgebra::Point3;
+use rayon::prelude::*;
 
 use super::file::{read_header, Header, Lexer, Tok};
 use crate::nodelines::NodeLines;
@@ -128,17 +129,11 @@ impl FoamPoints {
                 }
                 None => ascii_records(&mut lx, n)?,
             };
-            points.extend(records.iter().map(|r| r.1));
+            records.par_iter().with_min_len(1 << 14).map(|r| r.1).collect_into_vec(&mut points);
             Layout::Ascii(NodeLines { text: String::new(), records })
         };
         lx.expect(b')', "`)` closing the point list (is the size right?)")?;
-        for (i, p) in points.iter().enumerate() {
-            for &v in p.iter() {
-                if !v.is_finite() {
-                    return Err(Error::NonFinite { index: i, value: v });
-                }
-            }
-        }
+        crate::text::check_finite(&points)?;
         // The ASCII layout keeps the file as its text; the binary one as its bytes.
         let (bytes, layout) = match layout {
             Layout::Ascii(lines) => {
