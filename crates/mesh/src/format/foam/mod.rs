@@ -100,7 +100,7 @@ impl PolyMesh {
         };
         let (owner, neighbour) = (labels(owner, "owner entry of face")?, labels(neighbour, "neighbour entry of face")?);
         let m = PolyMesh { points, face_offsets, face_points, owner, neighbour, n_cells, patches, source: None };
-        m.validate()?;
+        m.validate(false)?;
         Ok(m)
     }
 
@@ -272,11 +272,14 @@ impl PolyMesh {
             patches,
             source: Some(Source { files, points, points_gz }),
         };
-        m.validate().map_err(|e| e.in_file(&dir))?;
+        m.validate(true).map_err(|e| e.in_file(&dir))?;
         Ok(m)
     }
 
-    fn validate(&self) -> Result<()> {
+    /// The checks of [`PolyMesh::try_new`] and [`PolyMesh::read`]; `read_checked` when
+    /// the reader already checked the face point labels against the point count and the
+    /// coordinates for NaN and infinity (so they are not scanned twice).
+    fn validate(&self, read_checked: bool) -> Result<()> {
         let nf = self.n_faces();
         if nf > Label::MAX as usize {
             return Err(Error::Topology(format!("{nf} faces: more than a 32-bit label can number ({})", Label::MAX)));
@@ -299,7 +302,8 @@ impl PolyMesh {
         // The face-by-face search for the first bad face runs only when a quick scan (of
         // the sizes, and of the largest point label) finds one.
         let short = self.face_offsets.par_windows(2).any(|w| w[1] < w[0].saturating_add(3));
-        let beyond = self.face_points.par_iter().max().is_some_and(|&m| m as usize >= self.points.len());
+        let beyond =
+            !read_checked && self.face_points.par_iter().max().is_some_and(|&m| m as usize >= self.points.len());
         for (i, f) in (0..if short || beyond { nf } else { 0 }).map(|i| (i, self.face(i))) {
             if f.len() < 3 {
                 return Err(Error::Topology(format!("face {i} has {} points; a face needs 3 or more", f.len())));
@@ -357,6 +361,9 @@ impl PolyMesh {
         let n_faces_of = by_owner.iter().zip(&by_neighbour).map(|(a, b)| a + b);
         if let Some((c, k)) = n_faces_of.enumerate().take(if few { usize::MAX } else { 0 }).find(|&(_, k)| k < 4) {
             return Err(Error::Topology(format!("cell {c} has {k} faces; a closed cell needs 4 or more")));
+        }
+        if read_checked {
+            return Ok(());
         }
         crate::text::check_finite(&self.points)
     }
