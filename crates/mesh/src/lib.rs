@@ -10,7 +10,7 @@
 //!
 //! | module | format | read | write |
 //! | --- | --- | --- | --- |
-//! | [`format::foam`] | OpenFOAM `polyMesh`: ASCII and binary, gzip or not | all five files | points (in the file's format); every other file copied |
+//! | [`format::foam`] | OpenFOAM `polyMesh`: ASCII and binary, gzip or not, 32-bit labels in memory | all five files (ASCII `faces`, `owner`, `neighbour` streamed, not held) | points (in the file's format); every other file copied (streamed ones from disk) |
 //! | [`format::stl`] | STL ASCII (several solids) and binary | yes | lossless, VTK-style ASCII, binary |
 //! | [`format::obj`] | Wavefront OBJ | `v`, `f`, `g`/`o` | lossless |
 //! | [`format::vtk`] | legacy VTK ASCII (v2–v5 cell layouts) | points, cells | lossless, VTK-writer style |

@@ -84,39 +84,147 @@ pub fn face_centre_and_area(points: &[Point3<f64>], f: &[Label]) -> (Point3<f64>
 impl Geometry {
     /// The geometry of `mesh`.
     pub fn of(mesh: &PolyMesh) -> Geometry {
-        Geometry::with_cells(mesh, &CellFaces::of(mesh))
+        Geometry::with_cells(mesh, &CellFaces::of(mesh), None).0
     }
 
     /// [`Geometry::of`] with the cells' faces already listed: the faces in parallel, then
     /// the cells in parallel, each summing over its faces in the order OpenFOAM's loops
-    /// add them (so the numbers are the same as its sequential loops give).
-    fn with_cells(mesh: &PolyMesh, cf: &CellFaces) -> Geometry {
+    /// add them (so the numbers are the same as its sequential loops give). With
+    /// `closedness`, the cell pass also runs [`cell_closedness`] on each cell while its
+    /// faces are in the cache, and returns the largest openness and aspect ratio of
+    /// each chunk of [`FACE_CHUNK`] cells, in cell order.
+    fn with_cells(mesh: &PolyMesh, cf: &CellFaces, closedness: Option<&Closedness>) -> (Geometry, Vec<(Worst, Worst)>) {
         let nf = mesh.n_faces();
         let (face_centres, face_areas): (Vec<_>, Vec<_>) =
             (0..nf).into_par_iter().map(|i| face_centre_and_area(&mesh.points, mesh.face(i))).unzip();
-        let (cell_centres, cell_volumes) = (0..mesh.n_cells())
-            .into_par_iter()
-            .with_min_len(1024)
-            .map(|c| {
-                let faces = cf.faces(c);
-                let mut est = Vector3::zeros();
-                for (f, _) in faces.clone() {
-                    est += face_centres[f].coords;
+        let nc = mesh.n_cells();
+        // Filled in parallel (the fresh pages faulted in by both threads), then written
+        // in place chunk by chunk.
+        let mut cell_centres = Vec::with_capacity(nc);
+        cell_centres.par_extend(rayon::iter::repeat_n(Point3::origin(), nc));
+        let mut cell_volumes = vec![0.0; nc];
+        let worst = cell_centres
+            .par_chunks_mut(FACE_CHUNK)
+            .zip(cell_volumes.par_chunks_mut(FACE_CHUNK))
+            .enumerate()
+            .map(|(k, (centres, volumes))| {
+                let lo = Worst { index: 0, value: f64::NEG_INFINITY };
+                let (mut open, mut aspect) = (lo, lo);
+                for (j, (centre, volume)) in centres.iter_mut().zip(volumes.iter_mut()).enumerate() {
+                    let c = k * FACE_CHUNK + j;
+                    (*centre, *volume) = cell_centre_and_volume(cf, &face_centres, &face_areas, c);
+                    if let Some(cl) = closedness {
+                        let (o, a) = cell_closedness(cf, &face_areas, cl, *volume, aspect.value, c);
+                        higher(&mut open, Worst { index: c, value: o });
+                        higher(&mut aspect, Worst { index: c, value: a });
+                    }
                 }
-                est /= cf.count(c).max(1) as f64;
-                let (mut ctr, mut vol) = (Vector3::zeros(), 0.0);
-                for (f, owned) in faces {
-                    let fc = face_centres[f].coords;
-                    let pyr3 = if owned { face_areas[f].dot(&(fc - est)) } else { face_areas[f].dot(&(est - fc)) };
-                    ctr += pyr3 * (0.75 * fc + 0.25 * est);
-                    vol += pyr3;
-                }
-                let centre = if vol.abs() > VSMALL { Point3::from(ctr / vol) } else { Point3::from(est) };
-                (centre, vol / 3.0)
+                (open, aspect)
             })
-            .unzip();
-        Geometry { face_centres, face_areas, cell_centres, cell_volumes }
+            .collect();
+        (Geometry { face_centres, face_areas, cell_centres, cell_volumes }, worst)
     }
+}
+
+/// Cell `c`'s centre and volume from its face pyramids about the mean of its face
+/// centres (`primitiveMeshCellCentresAndVols.C`).
+#[inline]
+fn cell_centre_and_volume(
+    cf: &CellFaces,
+    face_centres: &[Point3<f64>],
+    face_areas: &[Vector3<f64>],
+    c: usize,
+) -> (Point3<f64>, f64) {
+    let faces = cf.faces(c);
+    let mut est = Vector3::zeros();
+    for (f, _) in faces.clone() {
+        est += face_centres[f].coords;
+    }
+    est /= cf.count(c).max(1) as f64;
+    let (mut ctr, mut vol) = (Vector3::zeros(), 0.0);
+    for (f, owned) in faces {
+        let fc = face_centres[f].coords;
+        let pyr3 = if owned { face_areas[f].dot(&(fc - est)) } else { face_areas[f].dot(&(est - fc)) };
+        ctr += pyr3 * (0.75 * fc + 0.25 * est);
+        vol += pyr3;
+    }
+    let centre = if vol.abs() > VSMALL { Point3::from(ctr / vol) } else { Point3::from(est) };
+    (centre, vol / 3.0)
+}
+
+/// The mesh's solution directions (`polyMesh::calcDirections`): empty patches remove the
+/// directions their normals take; `area(f)` is face `f`'s area vector.
+fn closedness(mesh: &PolyMesh, area: impl Fn(usize) -> Vector3<f64>) -> Closedness {
+    let mut empty_dir = Vector3::zeros();
+    for p in mesh.patches().iter().filter(|p| p.kind == "empty") {
+        for f in p.start_face..p.start_face + p.n_faces {
+            empty_dir += area(f).abs();
+        }
+    }
+    let norm = empty_dir.norm();
+    let mut dirs = [1i8; 3];
+    if norm > VSMALL {
+        for k in 0..3 {
+            if empty_dir[k] / norm > 1e-6 {
+                dirs[k] = -1;
+            }
+        }
+    }
+    Closedness { dirs, n_dims: dirs.iter().filter(|&&d| d == 1).count() }
+}
+
+/// What [`cell_closedness`] needs besides the cell: the mesh's solution directions
+/// (`1` used, `-1` removed by empty patches) and how many are used.
+struct Closedness {
+    dirs: [i8; 3],
+    n_dims: usize,
+}
+
+/// OpenFOAM's `cellClosedness` for cell `c` of volume `volume`: the openness (its outward
+/// face area vectors summed, over the sum of their magnitudes, largest component) and the
+/// aspect ratio. When the aspect ratio surely stays below `below` (the largest so far),
+/// the power `volume^(2/3)` is not taken: the value returned is then below `below` too,
+/// and only the largest one is reported.
+#[inline]
+fn cell_closedness(
+    cf: &CellFaces,
+    face_areas: &[Vector3<f64>],
+    cl: &Closedness,
+    volume: f64,
+    below: f64,
+    c: usize,
+) -> (f64, f64) {
+    let (mut sc, mut smc) = (Vector3::zeros(), Vector3::zeros());
+    for (f, owned) in cf.faces(c) {
+        if owned {
+            sc += face_areas[f];
+        } else {
+            sc -= face_areas[f];
+        }
+        smc += face_areas[f].abs();
+    }
+    let open = (0..3).map(|k| sc[k].abs() / (smc[k] + ROOTVSMALL)).fold(0.0, f64::max);
+    let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+    for k in 0..3 {
+        if cl.dirs[k] == 1 {
+            lo = lo.min(smc[k]);
+            hi = hi.max(smc[k]);
+        }
+    }
+    let mut ar = hi / (lo + ROOTVSMALL);
+    if cl.n_dims == 3 {
+        let v = volume.max(ROOTVSMALL);
+        let q = smc.sum() / 6.0;
+        // q / v^(2/3) < m  ⇔  q³ < m³ v², with a margin far above the rounding of both
+        // sides, in a range where the cubes neither overflow nor underflow.
+        let m = below * (1.0 - 1e-9);
+        let sane = |x: f64| x > 1e-60 && x < 1e60;
+        let surely_below = sane(q) && sane(v) && sane(m) && q * q * q < m * m * m * v * v;
+        if !surely_below {
+            ar = ar.max(q / v.powf(2.0 / 3.0));
+        }
+    }
+    (open, ar)
 }
 
 /// The faces of each cell in the order OpenFOAM's cell loops visit them
@@ -609,38 +717,43 @@ impl Quality {
     /// ```
     pub fn of(mesh: &PolyMesh) -> Quality {
         let cf = CellFaces::of(mesh);
-        let g = Geometry::with_cells(mesh, &cf);
-        Quality::checks(mesh, &g, &cf)
+        // The solution directions need only the boundary faces' areas: computed first, so
+        // that the cell geometry pass also checks each cell's closedness.
+        let boundary_areas = |f: usize| face_centre_and_area(&mesh.points, mesh.face(f)).1;
+        let cl = closedness(mesh, boundary_areas);
+        let (g, cells) = Geometry::with_cells(mesh, &cf, Some(&cl));
+        Quality::checks(mesh, &g, &cl, cells)
     }
 
     /// Run the checks with a precomputed [`Geometry`].
     pub fn from_geometry(mesh: &PolyMesh, g: &Geometry) -> Quality {
-        Quality::checks(mesh, g, &CellFaces::of(mesh))
+        let cf = CellFaces::of(mesh);
+        let cl = closedness(mesh, |f| g.face_areas[f]);
+        let nc = mesh.n_cells();
+        let cells = (0..nc.div_ceil(FACE_CHUNK))
+            .into_par_iter()
+            .map(|k| {
+                let lo = Worst { index: 0, value: f64::NEG_INFINITY };
+                let (mut open, mut aspect) = (lo, lo);
+                for c in k * FACE_CHUNK..((k + 1) * FACE_CHUNK).min(nc) {
+                    let (o, a) = cell_closedness(&cf, &g.face_areas, &cl, g.cell_volumes[c], aspect.value, c);
+                    higher(&mut open, Worst { index: c, value: o });
+                    higher(&mut aspect, Worst { index: c, value: a });
+                }
+                (open, aspect)
+            })
+            .collect();
+        Quality::checks(mesh, g, &cl, cells)
     }
 
-    fn checks(mesh: &PolyMesh, g: &Geometry, cf: &CellFaces) -> Quality {
+    /// The checks, given the geometry and the largest cell openness and aspect ratio of
+    /// each chunk of cells.
+    fn checks(mesh: &PolyMesh, g: &Geometry, cl: &Closedness, cells: Vec<(Worst, Worst)>) -> Quality {
         let pts = &mesh.points;
         let (nf, ni, nc) = (mesh.n_faces(), mesh.n_internal_faces(), mesh.n_cells());
         let mut failed = Vec::new();
 
-        // Solution directions (polyMesh::calcDirections): empty patches remove the
-        // directions their normals take.
-        let mut empty_dir = Vector3::zeros();
-        for p in mesh.patches().iter().filter(|p| p.kind == "empty") {
-            for f in p.start_face..p.start_face + p.n_faces {
-                empty_dir += g.face_areas[f].abs();
-            }
-        }
-        let norm = empty_dir.norm();
-        let mut dirs = [1i8; 3];
-        if norm > VSMALL {
-            for k in 0..3 {
-                if empty_dir[k] / norm > 1e-6 {
-                    dirs[k] = -1;
-                }
-            }
-        }
-        let n_dims = dirs.iter().filter(|&&d| d == 1).count();
+        let dirs = cl.dirs;
 
         // checkClosedBoundary.
         let (mut sum_closed, mut sum_mag) = (Vector3::zeros(), 0.0);
@@ -658,50 +771,11 @@ impl Quality {
             ));
         }
 
-        // checkClosedCells (cellClosedness): per cell, the sum of its outward face area
-        // vectors against the sum of their magnitudes, and the aspect ratio from them; in
-        // fixed chunks of cells in parallel, folded in cell order.
-        let cell_checks = |c: usize| {
-            let (mut sc, mut smc) = (Vector3::zeros(), Vector3::zeros());
-            for (f, owned) in cf.faces(c) {
-                if owned {
-                    sc += g.face_areas[f];
-                } else {
-                    sc -= g.face_areas[f];
-                }
-                smc += g.face_areas[f].abs();
-            }
-            let open = (0..3).map(|k| sc[k].abs() / (smc[k] + ROOTVSMALL)).fold(0.0, f64::max);
-            let (mut lo, mut hi) = (f64::MAX, f64::MIN);
-            for k in 0..3 {
-                if dirs[k] == 1 {
-                    lo = lo.min(smc[k]);
-                    hi = hi.max(smc[k]);
-                }
-            }
-            let mut ar = hi / (lo + ROOTVSMALL);
-            if n_dims == 3 {
-                let v = g.cell_volumes[c].max(ROOTVSMALL);
-                ar = ar.max(smc.sum() / 6.0 / v.powf(2.0 / 3.0));
-            }
-            (open, ar)
-        };
-        let chunks: Vec<(Worst, Worst)> = (0..nc.div_ceil(FACE_CHUNK))
-            .into_par_iter()
-            .map(|k| {
-                let lo = Worst { index: 0, value: f64::NEG_INFINITY };
-                let (mut open, mut aspect) = (lo, lo);
-                for c in k * FACE_CHUNK..((k + 1) * FACE_CHUNK).min(nc) {
-                    let (o, a) = cell_checks(c);
-                    higher(&mut open, Worst { index: c, value: o });
-                    higher(&mut aspect, Worst { index: c, value: a });
-                }
-                (open, aspect)
-            })
-            .collect();
+        // checkClosedCells (cellClosedness), run with the cell geometry: the chunks'
+        // largest values folded in cell order.
         let lo = Worst { index: 0, value: f64::NEG_INFINITY };
         let (mut max_cell_openness, mut max_aspect_ratio) = (lo, lo);
-        for (o, a) in chunks {
+        for (o, a) in cells {
             higher(&mut max_cell_openness, o);
             higher(&mut max_aspect_ratio, a);
         }

@@ -2,7 +2,9 @@
 //! `faces`, `owner`, `neighbour` and `boundary`, each ASCII or binary and optionally
 //! gzip-compressed (`points.gz` …). Every other file of the directory (zones, sets,
 //! `cellZones`, `meshModifiers`, anything unknown) is kept byte for byte, and so are the
-//! topology files: a morph rewrites `points` only.
+//! topology files: a morph rewrites `points` only. The plain ASCII `faces`, `owner` and
+//! `neighbour` lists, most of a mesh's bytes, are streamed (`stream.rs`) rather than held,
+//! and copied from disk when the mesh is written.
 
 mod fast;
 mod file;
