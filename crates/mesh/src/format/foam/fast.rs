@@ -95,7 +95,7 @@ impl Scan<'_> {
     }
 
     /// A number token (up to white space or `)`), parsed as [`real`] does.
-    fn real(&mut self) -> Option<f64> {
+    pub(super) fn real(&mut self) -> Option<f64> {
         // The common case in one pass: `fast-float2` reads the longest number at the
         // cursor; when white space, `)` or the end follows and the value is finite, that
         // number is the whole token, of [`real`]'s alphabet, and `real` reads it the same

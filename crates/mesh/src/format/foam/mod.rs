@@ -60,15 +60,25 @@ pub struct PolyMesh {
     source: Option<Source>,
 }
 
-/// The files a mesh was read from, kept for lossless writing (the streamed `faces`,
-/// `owner` and `neighbour` lists as where they are on disk, see [`stream::Kept`]).
+/// The files a mesh was read from, kept for lossless writing (the streamed lists as where
+/// they are on disk, see [`stream::Kept`]).
 #[derive(Debug, Clone)]
 struct Source {
     /// Every regular file of the directory: name and bytes as on disk.
     files: Vec<(String, Kept)>,
-    /// The parsed points file and whether it was gzipped.
-    points: FoamPoints,
+    /// The points file as read, and whether it was gzipped.
+    points: PointsKept,
     points_gz: bool,
+}
+
+/// How the points file is kept.
+#[derive(Debug, Clone)]
+enum PointsKept {
+    /// Parsed whole (binary, gzipped, or not in the streamed layout), with its records.
+    Parsed(FoamPoints),
+    /// Streamed: the file stays on disk (its entry in `files`), and is written by
+    /// parsing it again and putting the current points in its records.
+    OnDisk,
 }
 
 impl PolyMesh {
@@ -148,7 +158,7 @@ impl PolyMesh {
         // The faces, owner and neighbour lists are streamed and the points file read by its
         // parse task (below); the other files read here.
         let streamed = [lf.0, lo.0, ln.0];
-        let mut files: Vec<(String, Vec<u8>)> = paths
+        let files: Vec<(String, Vec<u8>)> = paths
             .par_iter()
             .enumerate()
             .with_max_len(1)
@@ -168,15 +178,24 @@ impl PolyMesh {
             })
         };
         let (points, (faces, (owner, neighbour))) = rayon::join(
-            // A plain points file is handed to the points reader, which keeps it as its text
-            // (its entry in `files` stays empty; `to_files` writes it); a gzipped one is kept
-            // as on disk.
-            || -> Result<(Vec<u8>, FoamPoints)> {
-                let raw = std::fs::read(&pp).map_err(io(&pp))?;
-                match plain(lp, &raw)? {
-                    Some(text) => Ok((raw, FoamPoints::parse_owned(text).map_err(|e| e.in_file(&pp))?)),
-                    None => Ok((Vec::new(), FoamPoints::parse_owned(raw).map_err(|e| e.in_file(&pp))?)),
+            // A plain ASCII points file is streamed and left on disk; any other is read
+            // whole. A plain one read whole is kept by the points reader as its text (its
+            // entry in `files` stays empty; `to_files` writes it); a gzipped one is kept as
+            // on disk.
+            || -> Result<(Kept, PointsKept, Vec<Point3<f64>>)> {
+                if !lp.1 {
+                    if let Some((_, pts, kept)) = stream::points(&pp)? {
+                        return Ok((kept, PointsKept::OnDisk, pts));
+                    }
                 }
+                let raw = std::fs::read(&pp).map_err(io(&pp))?;
+                let (raw, mut parsed) = match plain(lp, &raw)? {
+                    Some(text) => (raw, FoamPoints::parse_owned(text).map_err(|e| e.in_file(&pp))?),
+                    None => (Vec::new(), FoamPoints::parse_owned(raw).map_err(|e| e.in_file(&pp))?),
+                };
+                // The mesh takes the points; the kept file compares against its records.
+                let pts = std::mem::take(&mut parsed.points);
+                Ok((Kept::Bytes(raw), PointsKept::Parsed(parsed), pts))
             },
             || {
                 // Streamed when plain ASCII, else read whole (and kept) and parsed.
@@ -212,23 +231,20 @@ impl PolyMesh {
                 )
             },
         );
-        let ((points_raw, points), (faces, faces_kept), (owner, owner_kept), (neighbour, neighbour_kept)) =
+        let ((points_kept, points, mesh_points), (faces, faces_kept), (owner, owner_kept), (neighbour, neighbour_kept)) =
             (points?, faces?, owner?, neighbour?);
-        files[lp.0].1 = points_raw;
+
         let patches = match plain(boundary, &files[boundary.0].1)? {
             Some(text) => read_boundary(&text),
             None => read_boundary(&files[boundary.0].1),
         }
         .map_err(|e| e.in_file(&paths[boundary.0].1))?;
         let mut files: Vec<(String, Kept)> = files.into_iter().map(|(n, b)| (n, Kept::Bytes(b))).collect();
-        for (k, kept) in streamed.into_iter().zip([faces_kept, owner_kept, neighbour_kept]) {
+        for (k, kept) in [lp.0].into_iter().chain(streamed).zip([points_kept, faces_kept, owner_kept, neighbour_kept]) {
             files[k].1 = kept;
         }
         let points_gz = lp.1;
         let ((face_offsets, face_points), (oh, owner), (_, neighbour)) = (faces, owner, neighbour);
-        // The mesh takes the points; the kept file compares against its records.
-        let mut points = points;
-        let mesh_points = std::mem::take(&mut points.points);
         let np_ = mesh_points.len();
         // A parallel scan for the largest label first; the search for the first bad one
         // only when there is one (so also below).
@@ -404,32 +420,59 @@ impl PolyMesh {
     /// with `points` (or `points.gz`) rewritten in its own format when a point moved; a
     /// mesh made by [`PolyMesh::try_new`] gets fresh ASCII files.
     ///
-    /// The `faces`, `owner` and `neighbour` files, streamed by [`PolyMesh::read`] and not
-    /// held in memory, are read again from where they were read.
+    /// The plain ASCII `points`, `faces`, `owner` and `neighbour` files, streamed by
+    /// [`PolyMesh::read`] and not held in memory, are read again from where they were
+    /// read. One that is gone since, or now holds other lists, is written afresh from the
+    /// mesh (same values, OpenFOAM's ASCII layout) instead.
     ///
     /// # Errors
     ///
     /// [`Error::CountMismatch`] when the point count changed; [`Error::Io`] when a file
-    /// left on disk cannot be read or changed (size or modification time) since.
+    /// left on disk is there but cannot be read.
     pub fn to_files(&self) -> Result<Vec<(PathBuf, Vec<u8>)>> {
         let Some(src) = &self.source else {
             return Ok(self.fresh_files());
         };
-        let mut p = src.points.clone();
-        p.points.clone_from(&self.points);
-        let bytes = p.write()?;
-        let (name, bytes) = if src.points_gz { ("points.gz", file::gzip(&bytes)) } else { ("points", bytes) };
-        let unchanged = src.points.is_as_read(&self.points);
+        let name = if src.points_gz { "points.gz" } else { "points" };
+        // The points file with the current points (unchanged records as read), and whether
+        // no point moved.
+        let (bytes, unchanged) = match &src.points {
+            PointsKept::Parsed(read) => {
+                let mut p = read.clone();
+                p.points.clone_from(&self.points);
+                (p.write()?, read.is_as_read(&self.points))
+            }
+            PointsKept::OnDisk => {
+                // The file now there serves as the template of the records (also when
+                // a previous write of this mesh replaced it); a file that is gone, does
+                // not read, or holds another number of points gives a fresh one.
+                let kept = src.files.iter().find(|(n, _)| n == name).map(|(_, k)| k);
+                let template = match kept {
+                    Some(k) => k.bytes(|_| true)?.and_then(|b| FoamPoints::parse_owned(b).ok()),
+                    None => None,
+                };
+                match template {
+                    Some(mut p) if p.points.len() == self.points.len() => {
+                        let unchanged = p.is_as_read(&self.points);
+                        p.points.clone_from(&self.points);
+                        (p.write()?, unchanged)
+                    }
+                    _ => (self.fresh_file(name), false),
+                }
+            }
+        };
+        let bytes = if src.points_gz { file::gzip(&bytes) } else { bytes };
         src.files
             .iter()
             .map(|(n, b)| {
-                // The plain points file's entry is empty (the reader kept it): its lossless
-                // write is the file as read when no point moved. A gzipped one is kept as
-                // read unless a point moved.
+                // The plain points file's entry is empty when its reader kept it, or the file
+                // on disk when streamed: either way its lossless write is `bytes`. A gzipped
+                // one is kept as read unless a point moved.
                 Ok(if n == name && (!unchanged || !src.points_gz) {
                     (PathBuf::from(n), bytes.clone())
                 } else {
-                    (PathBuf::from(n), b.bytes(|bytes| self.holds_list_of(n, bytes))?)
+                    let bytes = b.bytes(|bytes| self.holds_list_of(n, bytes))?;
+                    (PathBuf::from(n), bytes.unwrap_or_else(|| self.fresh_file(n)))
                 })
             })
             .collect()
@@ -457,6 +500,12 @@ impl PolyMesh {
     /// [`Error::Io`] naming the path; as [`PolyMesh::to_files`].
     pub fn write(&self, dir: &Path) -> Result<()> {
         crate::atomic::write_dir_atomic(dir, &self.to_files()?)
+    }
+
+    /// The file `name` as [`PolyMesh::fresh_files`] writes it (empty for a name it does
+    /// not write).
+    fn fresh_file(&self, name: &str) -> Vec<u8> {
+        self.fresh_files().into_iter().find(|(n, _)| n.as_os_str() == name).map(|(_, b)| b).unwrap_or_default()
     }
 
     fn fresh_files(&self) -> Vec<(PathBuf, Vec<u8>)> {
