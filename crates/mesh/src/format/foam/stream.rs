@@ -108,8 +108,10 @@ impl Window {
 type Opened = (Window, Header, usize, usize, Kept);
 
 /// Open `path` and read its header and list size; `None` when it is not a plain ASCII
-/// list whose `N (` lies in the first window.
-fn open(path: &Path) -> Result<Option<Opened>> {
+/// list whose `N (` lies in the first window, or when the file is too short to hold `N`
+/// records of at least `min_record` bytes (so that no buffer is sized from a count the
+/// file cannot back; the whole-file reader then names the problem).
+fn open(path: &Path, min_record: u64) -> Result<Option<Opened>> {
     let file = File::open(path).map_err(io(path))?;
     let meta = file.metadata().map_err(io(path))?;
     let kept = Kept::OnDisk { path: path.to_path_buf(), len: meta.len(), modified: meta.modified().ok() };
@@ -121,7 +123,8 @@ fn open(path: &Path) -> Result<Option<Opened>> {
         return Ok(None);
     }
     // A count followed by `(` was read whole.
-    let Ok(n) = lx.count(usize::try_from(meta.len()).unwrap_or(usize::MAX)) else { return Ok(None) };
+    let max = usize::try_from(meta.len() / min_record + 1).unwrap_or(usize::MAX);
+    let Ok(n) = lx.count(max) else { return Ok(None) };
     if lx.expect(b'(', "").is_err() {
         return Ok(None);
     }
@@ -146,7 +149,8 @@ fn cut(w: &Window, pos: usize, cut_here: impl Fn(&[u8], usize) -> bool) -> usize
 ///
 /// [`Error::Io`] when the file cannot be read.
 pub(super) fn faces(path: &Path) -> Result<Option<(Header, FaceLists, Kept)>> {
-    let Some((mut w, h, n, mut pos, kept)) = open(path)? else { return Ok(None) };
+    // `3(0 1 2)`: eight bytes at least.
+    let Some((mut w, h, n, mut pos, kept)) = open(path, 8)? else { return Ok(None) };
     if h.class == "faceCompactList" {
         return Ok(None);
     }
@@ -208,7 +212,8 @@ pub(super) fn faces(path: &Path) -> Result<Option<(Header, FaceLists, Kept)>> {
 ///
 /// [`Error::Io`] when the file cannot be read.
 pub(super) fn labels(path: &Path) -> Result<Option<(Header, Vec<Label>, Kept)>> {
-    let Some((mut w, h, n, mut pos, kept)) = open(path)? else { return Ok(None) };
+    // A digit and a separator.
+    let Some((mut w, h, n, mut pos, kept)) = open(path, 2)? else { return Ok(None) };
     let mut out: Vec<Label> = Vec::with_capacity(n);
     // A label ends before white space.
     let after_space = |b: &[u8], i: usize| is_ws(b[i - 1]);
@@ -251,7 +256,8 @@ type Points = Vec<Point3<f64>>;
 ///
 /// [`Error::Io`] when the file cannot be read.
 pub(super) fn points(path: &Path) -> Result<Option<(Header, Points, Kept)>> {
-    let Some((mut w, h, n, mut pos, kept)) = open(path)? else { return Ok(None) };
+    // `(0 0 0)`: seven bytes at least.
+    let Some((mut w, h, n, mut pos, kept)) = open(path, 7)? else { return Ok(None) };
     let mut out = Vec::with_capacity(n);
     // A record starts a line.
     let at_line = |b: &[u8], i: usize| b[i - 1] == b'\n';
@@ -408,5 +414,14 @@ mod tests {
                 assert_eq!(v, got);
             }
         }
+    }
+
+    #[test]
+    fn a_count_the_file_cannot_hold_sizes_no_buffer() {
+        let text =
+            "FoamFile { version 2.0; format ascii; class vectorField; object points; }\n1000000000000\n(\n(0 0 0)\n)\n";
+        assert!(points(&temp("huge-count", text)).unwrap().is_none());
+        let owner = text.replace("vectorField", "labelList").replace("(0 0 0)", "0");
+        assert!(labels(&temp("huge-count-owner", &owner)).unwrap().is_none());
     }
 }
