@@ -94,6 +94,20 @@ impl Scan<'_> {
         (self.peek() == Some(c)).then(|| self.pos += 1)
     }
 
+    /// A point record `(x y z)` at the cursor (white space allowed inside).
+    #[inline]
+    pub(super) fn point(&mut self) -> Option<Point3<f64>> {
+        self.punct(b'(')?;
+        let mut c = [0.0; 3];
+        for v in &mut c {
+            self.ws();
+            *v = self.real()?;
+        }
+        self.ws();
+        self.punct(b')')?;
+        Some(Point3::new(c[0], c[1], c[2]))
+    }
+
     /// A number token (up to white space or `)`), parsed as [`real`] does.
     pub(super) fn real(&mut self) -> Option<f64> {
         // The common case in one pass: `fast-float2` reads the longest number at the
@@ -360,15 +374,8 @@ pub(crate) fn points(b: &[u8], start: usize, n: usize) -> Option<(Vec<PointRecor
             for rec in slot.iter_mut() {
                 s.ws();
                 let at = s.pos;
-                s.punct(b'(')?;
-                let mut c = [0.0; 3];
-                for v in &mut c {
-                    s.ws();
-                    *v = s.real()?;
-                }
-                s.ws();
-                s.punct(b')')?;
-                *rec = (at..s.pos, Point3::new(c[0], c[1], c[2]));
+                let p = s.point()?;
+                *rec = (at..s.pos, p);
             }
             piece_end(&mut s)
         })

@@ -142,6 +142,42 @@ fn cut(w: &Window, pos: usize, cut_here: impl Fn(&[u8], usize) -> bool) -> usize
     (pos + 1..w.len).rev().find(|&i| cut_here(b, i)).unwrap_or(pos)
 }
 
+/// Read the records of the list whose body starts at `pos` of the window, a part at a
+/// time: each part ends where `cut_here` holds (so that no record is cut), and `record`
+/// reads one record at the scan (after white space, before the list's `)`), `None` for
+/// anything outside the plain layout. Whether the list's `)` was met, every record read.
+fn each_record(
+    w: &mut Window,
+    mut pos: usize,
+    cut_here: impl Fn(&[u8], usize) -> bool,
+    mut record: impl FnMut(&mut Scan<'_>) -> Option<()>,
+) -> Result<bool> {
+    loop {
+        let end = cut(w, pos, &cut_here);
+        let mut s = Scan { b: &w.buf, pos, end };
+        let closed = loop {
+            s.ws();
+            match s.peek() {
+                None => break false,
+                Some(b')') => break true,
+                Some(_) => {}
+            }
+            if record(&mut s).is_none() {
+                return Ok(false);
+            }
+        };
+        if closed {
+            return Ok(true);
+        }
+        if w.eof {
+            return Ok(false);
+        }
+        pos = s.pos;
+        w.refill(pos)?;
+        pos = 0;
+    }
+}
+
 /// A streamed `faceList` (`N ( k(a b …) … )`): its header, CSR offsets and point labels,
 /// and how the file is kept; `Ok(None)` when it is not in the plain layout.
 ///
@@ -150,7 +186,7 @@ fn cut(w: &Window, pos: usize, cut_here: impl Fn(&[u8], usize) -> bool) -> usize
 /// [`Error::Io`] when the file cannot be read.
 pub(super) fn faces(path: &Path) -> Result<Option<(Header, FaceLists, Kept)>> {
     // `3(0 1 2)`: eight bytes at least.
-    let Some((mut w, h, n, mut pos, kept)) = open(path, 8)? else { return Ok(None) };
+    let Some((mut w, h, n, pos, kept)) = open(path, 8)? else { return Ok(None) };
     if h.class == "faceCompactList" {
         return Ok(None);
     }
@@ -164,45 +200,23 @@ pub(super) fn faces(path: &Path) -> Result<Option<(Header, FaceLists, Kept)>> {
     let mut labels: Vec<Label> = Vec::with_capacity(n.saturating_mul(4).min(limit));
     // A record starts at the start of a line `k(` (see `super::fast`).
     let at_record = |b: &[u8], i: usize| b[i - 1] == b'\n' && starts_face(&b[i..]);
-    loop {
-        let end = cut(&w, pos, at_record);
-        let mut s = Scan { b: &w.buf, pos, end };
-        let closed = loop {
-            s.ws();
-            match s.peek() {
-                None => break false,
-                Some(b')') => break true,
-                Some(_) => {}
-            }
-            if offsets.len() > n {
-                return Ok(None);
-            }
-            let Some(k) = s.uint() else { return Ok(None) };
-            s.ws();
-            if s.punct(b'(').is_none() {
-                return Ok(None);
-            }
-            for _ in 0..k {
-                s.ws();
-                let Some(v) = s.label() else { return Ok(None) };
-                labels.push(v);
-            }
-            s.ws();
-            if s.punct(b')').is_none() {
-                return Ok(None);
-            }
-            offsets.push(labels.len());
-        };
-        if closed {
-            return Ok((offsets.len() == n + 1).then_some((h, (offsets, labels), kept)));
+    let closed = each_record(&mut w, pos, at_record, |s| {
+        if offsets.len() > n {
+            return None;
         }
-        if w.eof {
-            return Ok(None);
+        let k = s.uint()?;
+        s.ws();
+        s.punct(b'(')?;
+        for _ in 0..k {
+            s.ws();
+            labels.push(s.label()?);
         }
-        pos = s.pos;
-        w.refill(pos)?;
-        pos = 0;
-    }
+        s.ws();
+        s.punct(b')')?;
+        offsets.push(labels.len());
+        Some(())
+    })?;
+    Ok((closed && offsets.len() == n + 1).then_some((h, (offsets, labels), kept)))
 }
 
 /// A streamed `labelList` (`N ( l l … )`): its header, the labels and how the file is
@@ -213,36 +227,18 @@ pub(super) fn faces(path: &Path) -> Result<Option<(Header, FaceLists, Kept)>> {
 /// [`Error::Io`] when the file cannot be read.
 pub(super) fn labels(path: &Path) -> Result<Option<(Header, Vec<Label>, Kept)>> {
     // A digit and a separator.
-    let Some((mut w, h, n, mut pos, kept)) = open(path, 2)? else { return Ok(None) };
+    let Some((mut w, h, n, pos, kept)) = open(path, 2)? else { return Ok(None) };
     let mut out: Vec<Label> = Vec::with_capacity(n);
     // A label ends before white space.
     let after_space = |b: &[u8], i: usize| is_ws(b[i - 1]);
-    loop {
-        let end = cut(&w, pos, after_space);
-        let mut s = Scan { b: &w.buf, pos, end };
-        let closed = loop {
-            s.ws();
-            match s.peek() {
-                None => break false,
-                Some(b')') => break true,
-                Some(_) => {}
-            }
-            if out.len() == n {
-                return Ok(None);
-            }
-            let Some(v) = s.label() else { return Ok(None) };
-            out.push(v);
-        };
-        if closed {
-            return Ok((out.len() == n).then_some((h, out, kept)));
+    let closed = each_record(&mut w, pos, after_space, |s| {
+        if out.len() == n {
+            return None;
         }
-        if w.eof {
-            return Ok(None);
-        }
-        pos = s.pos;
-        w.refill(pos)?;
-        pos = 0;
-    }
+        out.push(s.label()?);
+        Some(())
+    })?;
+    Ok((closed && out.len() == n).then_some((h, out, kept)))
 }
 
 /// Points as read.
@@ -257,47 +253,18 @@ type Points = Vec<Point3<f64>>;
 /// [`Error::Io`] when the file cannot be read.
 pub(super) fn points(path: &Path) -> Result<Option<(Header, Points, Kept)>> {
     // `(0 0 0)`: seven bytes at least.
-    let Some((mut w, h, n, mut pos, kept)) = open(path, 7)? else { return Ok(None) };
+    let Some((mut w, h, n, pos, kept)) = open(path, 7)? else { return Ok(None) };
     let mut out = Vec::with_capacity(n);
     // A record starts a line.
     let at_line = |b: &[u8], i: usize| b[i - 1] == b'\n';
-    loop {
-        let end = cut(&w, pos, at_line);
-        let mut s = Scan { b: &w.buf, pos, end };
-        let closed = loop {
-            s.ws();
-            match s.peek() {
-                None => break false,
-                Some(b')') => break true,
-                Some(_) => {}
-            }
-            if out.len() == n || s.punct(b'(').is_none() {
-                return Ok(None);
-            }
-            let mut c = [0.0; 3];
-            for v in &mut c {
-                s.ws();
-                match s.real() {
-                    Some(x) if x.is_finite() => *v = x,
-                    _ => return Ok(None),
-                }
-            }
-            s.ws();
-            if s.punct(b')').is_none() {
-                return Ok(None);
-            }
-            out.push(Point3::new(c[0], c[1], c[2]));
-        };
-        if closed {
-            return Ok((out.len() == n).then_some((h, out, kept)));
+    let closed = each_record(&mut w, pos, at_line, |s| {
+        if out.len() == n {
+            return None;
         }
-        if w.eof {
-            return Ok(None);
-        }
-        pos = s.pos;
-        w.refill(pos)?;
-        pos = 0;
-    }
+        out.push(s.point().filter(|p| p.iter().all(|x| x.is_finite()))?);
+        Some(())
+    })?;
+    Ok((closed && out.len() == n).then_some((h, out, kept)))
 }
 
 #[cfg(test)]
