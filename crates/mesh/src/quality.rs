@@ -93,7 +93,7 @@ impl Geometry {
     /// `closedness`, the cell pass also runs [`cell_closedness`] on each cell while its
     /// faces are in the cache, and returns the largest openness and aspect ratio of
     /// each chunk of [`FACE_CHUNK`] cells, in cell order.
-    fn with_cells(mesh: &PolyMesh, cf: &CellFaces, closedness: Option<&Closedness>) -> (Geometry, Vec<(Worst, Worst)>) {
+    fn with_cells(mesh: &PolyMesh, cf: &CellFaces, closedness: Option<&Closedness>) -> (Geometry, Vec<CellWorst>) {
         let nf = mesh.n_faces();
         let (face_centres, face_areas): (Vec<_>, Vec<_>) =
             (0..nf).into_par_iter().map(|i| face_centre_and_area(&mesh.points, mesh.face(i))).unzip();
@@ -108,18 +108,15 @@ impl Geometry {
             .zip(cell_volumes.par_chunks_mut(FACE_CHUNK))
             .enumerate()
             .map(|(k, (centres, volumes))| {
-                let lo = Worst { index: 0, value: f64::NEG_INFINITY };
-                let (mut open, mut aspect) = (lo, lo);
+                let mut worst = NO_CELL;
                 for (j, (centre, volume)) in centres.iter_mut().zip(volumes.iter_mut()).enumerate() {
                     let c = k * FACE_CHUNK + j;
                     (*centre, *volume) = cell_centre_and_volume(cf, &face_centres, &face_areas, c);
                     if let Some(cl) = closedness {
-                        let (o, a) = cell_closedness(cf, &face_areas, cl, *volume, aspect.value, c);
-                        higher(&mut open, Worst { index: c, value: o });
-                        higher(&mut aspect, Worst { index: c, value: a });
+                        add_cell_closedness(&mut worst, cf, &face_areas, cl, *volume, c);
                     }
                 }
-                (open, aspect)
+                worst
             })
             .collect();
         (Geometry { face_centres, face_areas, cell_centres, cell_volumes }, worst)
@@ -171,6 +168,28 @@ fn closedness(mesh: &PolyMesh, area: impl Fn(usize) -> Vector3<f64>) -> Closedne
         }
     }
     Closedness { dirs, n_dims: dirs.iter().filter(|&&d| d == 1).count() }
+}
+
+/// The largest cell openness and aspect ratio of a run of cells (the first cell where
+/// each is reached).
+type CellWorst = (Worst, Worst);
+
+/// [`CellWorst`] of no cell.
+const NO_CELL: CellWorst = (Worst { index: 0, value: f64::NEG_INFINITY }, Worst { index: 0, value: f64::NEG_INFINITY });
+
+/// Fold cell `c`'s [`cell_closedness`] into `worst` (the cells before it, in order).
+#[inline]
+fn add_cell_closedness(
+    worst: &mut CellWorst,
+    cf: &CellFaces,
+    face_areas: &[Vector3<f64>],
+    cl: &Closedness,
+    volume: f64,
+    c: usize,
+) {
+    let (o, a) = cell_closedness(cf, face_areas, cl, volume, worst.1.value, c);
+    higher(&mut worst.0, Worst { index: c, value: o });
+    higher(&mut worst.1, Worst { index: c, value: a });
 }
 
 /// What [`cell_closedness`] needs besides the cell: the mesh's solution directions
@@ -733,14 +752,11 @@ impl Quality {
         let cells = (0..nc.div_ceil(FACE_CHUNK))
             .into_par_iter()
             .map(|k| {
-                let lo = Worst { index: 0, value: f64::NEG_INFINITY };
-                let (mut open, mut aspect) = (lo, lo);
+                let mut worst = NO_CELL;
                 for c in k * FACE_CHUNK..((k + 1) * FACE_CHUNK).min(nc) {
-                    let (o, a) = cell_closedness(&cf, &g.face_areas, &cl, g.cell_volumes[c], aspect.value, c);
-                    higher(&mut open, Worst { index: c, value: o });
-                    higher(&mut aspect, Worst { index: c, value: a });
+                    add_cell_closedness(&mut worst, &cf, &g.face_areas, &cl, g.cell_volumes[c], c);
                 }
-                (open, aspect)
+                worst
             })
             .collect();
         Quality::checks(mesh, g, &cl, cells)
@@ -748,7 +764,7 @@ impl Quality {
 
     /// The checks, given the geometry and the largest cell openness and aspect ratio of
     /// each chunk of cells.
-    fn checks(mesh: &PolyMesh, g: &Geometry, cl: &Closedness, cells: Vec<(Worst, Worst)>) -> Quality {
+    fn checks(mesh: &PolyMesh, g: &Geometry, cl: &Closedness, cells: Vec<CellWorst>) -> Quality {
         let pts = &mesh.points;
         let (nf, ni, nc) = (mesh.n_faces(), mesh.n_internal_faces(), mesh.n_cells());
         let mut failed = Vec::new();

@@ -218,10 +218,7 @@ impl PolyMesh {
                             |l: (usize, bool), what: &'static str| -> Result<((file::Header, Vec<Label>), Kept)> {
                                 let p = &paths[l.0].1;
                                 if let Some((h, v, kept)) = stream::labels(p)? {
-                                    if let Some(i) = first_where(&v, |c| c > i32::MAX as Label) {
-                                        return Err(cell_out_of_range(what, i, v[i] as i64).in_file(p));
-                                    }
-                                    return Ok(((h, v), kept));
+                                    return Ok(((h, in_label_range(v, what, p)?), kept));
                                 }
                                 let (raw, text) = whole(l)?;
                                 Ok((read_cells(text.as_deref().unwrap_or(&raw), what, p)?, Kept::Bytes(raw)))
@@ -434,6 +431,16 @@ impl PolyMesh {
             return Ok(self.fresh_files());
         };
         let name = if src.points_gz { "points.gz" } else { "points" };
+        // A file written afresh from the mesh (one that is gone or changed on disk): all
+        // of them are formatted once, on the first need.
+        let all_fresh = std::cell::OnceCell::new();
+        let fresh = |n: &str| -> Vec<u8> {
+            let all = all_fresh.get_or_init(|| self.fresh_files());
+            all.iter()
+                .find(|(f, _): &&(PathBuf, Vec<u8>)| f.as_os_str() == n)
+                .map(|(_, b)| b.clone())
+                .unwrap_or_default()
+        };
         // The points file with the current points (unchanged records as read), and whether
         // no point moved.
         let (bytes, unchanged) = match &src.points {
@@ -457,7 +464,7 @@ impl PolyMesh {
                         p.points.clone_from(&self.points);
                         (p.write()?, unchanged)
                     }
-                    _ => (self.fresh_file(name), false),
+                    _ => (fresh(name), false),
                 }
             }
         };
@@ -472,7 +479,7 @@ impl PolyMesh {
                     (PathBuf::from(n), bytes.clone())
                 } else {
                     let bytes = b.bytes(|bytes| self.holds_list_of(n, bytes))?;
-                    (PathBuf::from(n), bytes.unwrap_or_else(|| self.fresh_file(n)))
+                    (PathBuf::from(n), bytes.unwrap_or_else(|| fresh(n)))
                 })
             })
             .collect()
@@ -500,12 +507,6 @@ impl PolyMesh {
     /// [`Error::Io`] naming the path; as [`PolyMesh::to_files`].
     pub fn write(&self, dir: &Path) -> Result<()> {
         crate::atomic::write_dir_atomic(dir, &self.to_files()?)
-    }
-
-    /// The file `name` as [`PolyMesh::fresh_files`] writes it (empty for a name it does
-    /// not write).
-    fn fresh_file(&self, name: &str) -> Vec<u8> {
-        self.fresh_files().into_iter().find(|(n, _)| n.as_os_str() == name).map(|(_, b)| b).unwrap_or_default()
     }
 
     fn fresh_files(&self) -> Vec<(PathBuf, Vec<u8>)> {
@@ -574,6 +575,15 @@ fn label(v: usize, what: &'static str, index: usize, target_kind: &'static str) 
     })
 }
 
+/// Cell labels read by a fast path (non-negative by construction), refused where one is
+/// beyond 2³¹ − 1, as the general reader refuses it.
+fn in_label_range(v: Vec<Label>, what: &'static str, path: &Path) -> Result<Vec<Label>> {
+    match first_where(&v, |c| c > i32::MAX as Label) {
+        Some(i) => Err(cell_out_of_range(what, i, v[i] as i64).in_file(path)),
+        None => Ok(v),
+    }
+}
+
 /// A cell label that no 32-bit OpenFOAM label holds (negative, or beyond 2³¹ − 1).
 fn cell_out_of_range(what: &'static str, index: usize, target: i64) -> Error {
     Error::OutOfRange { what, index, target_kind: "cell", target, count: 0 }
@@ -618,10 +628,7 @@ fn read_faces(bytes: &[u8], path: &Path) -> Result<FaceLists> {
 fn read_cells(bytes: &[u8], what: &'static str, path: &Path) -> Result<(file::Header, Vec<Label>)> {
     let out_of_range = |i: usize, c: i64| cell_out_of_range(what, i, c).in_file(path);
     if let Some((h, v)) = file::label_list_fast(bytes) {
-        if let Some(i) = first_where(&v, |c| c > i32::MAX as Label) {
-            return Err(out_of_range(i, v[i] as i64));
-        }
-        return Ok((h, v));
+        return Ok((h, in_label_range(v, what, path)?));
     }
     let (h, v) = file::label_list(bytes).map_err(|e| e.in_file(path))?;
     let cells = v

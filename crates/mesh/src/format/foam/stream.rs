@@ -192,12 +192,8 @@ pub(super) fn faces(path: &Path) -> Result<Option<(Header, FaceLists, Kept)>> {
     }
     let mut offsets = Vec::with_capacity(n + 1);
     offsets.push(0usize);
-    // Each label takes two bytes of the file at least.
-    let limit = match &kept {
-        Kept::OnDisk { len, .. } => usize::try_from(*len / 2).unwrap_or(usize::MAX),
-        Kept::Bytes(_) => 0,
-    };
-    let mut labels: Vec<Label> = Vec::with_capacity(n.saturating_mul(4).min(limit));
+    // Quads mostly; `open` bounded `n` by the file's length.
+    let mut labels: Vec<Label> = Vec::with_capacity(4 * n);
     // A record starts at the start of a line `k(` (see `super::fast`).
     let at_record = |b: &[u8], i: usize| b[i - 1] == b'\n' && starts_face(&b[i..]);
     let closed = each_record(&mut w, pos, at_record, |s| {
