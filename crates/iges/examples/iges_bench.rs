@@ -51,7 +51,7 @@ fn main() {
             drop(doc);
             let t = Instant::now();
             let doc = Document::from_bytes(std::fs::read(&f).unwrap()).unwrap();
-            let surfaces: Vec<_> = doc.faces().iter().map(|f| doc.face_surface(f).unwrap().surface).collect();
+            let surfaces: Vec<_> = doc.face_surfaces(&doc.faces()).into_iter().map(|s| s.unwrap().surface).collect();
             total_s = total_s.min(t.elapsed().as_secs_f64());
             faces = surfaces.len();
             checksum = 0.0;

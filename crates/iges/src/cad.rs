@@ -150,10 +150,12 @@ impl CadDocument for Document {
     fn faces(&self) -> cadmorph_brep::Result<FaceSet> {
         let reversed = self.reversed_faces();
         let mut out = FaceSet::default();
-        for f in Document::try_faces(self).map_err(err)? {
+        let faces = Document::try_faces(self).map_err(err)?;
+        let surfaces = self.face_surfaces(&faces);
+        for (f, surface) in faces.into_iter().zip(surfaces) {
             let t = self.entity(f.surface).map(|e| e.entity_type()).unwrap_or(0);
             let entity = r(f.face).with_occurrence(f.occurrence);
-            match self.face_surface(&f) {
+            match surface {
                 Ok(es) => {
                     let (ud, vd) = es.surface.domain();
                     out.faces.push(Face {

@@ -44,7 +44,7 @@ use cadmorph_nurbs::{Curve, KnotVector, NurbsCurve, NurbsSurface, Surface};
 use nalgebra::{Matrix3, Matrix4, Point3, Vector3};
 use std::cell::Cell;
 
-use crate::document::{Document, EntityId};
+use crate::document::{Document, Entity, EntityId};
 use crate::entity::View;
 use crate::error::{Error, Result};
 
@@ -120,6 +120,15 @@ pub struct FaceRef {
     /// surface's own 124 matrices come before it.
     pub placement: Matrix4<f64>,
 }
+
+/// From this many faces on, [`Document::face_surfaces`] converts them on rayon's threads
+/// (as `cadmorph-step` does).
+const PARALLEL_FACES: usize = 64;
+
+/// From this many parameter lines of surface records in all (256 KiB of text),
+/// [`Document::face_surfaces`] converts the faces on rayon's threads whatever their
+/// count.
+const PARALLEL_LINES: usize = 4096;
 
 /// Most 408 instances followed in one file (nested instances multiply).
 const MAX_INSTANCES: usize = 100_000;
@@ -498,6 +507,11 @@ impl Document {
     fn surface_chain(&self, id: EntityId) -> Result<()> {
         let mut cur = id;
         for _ in 0..=MAX_SURFACE_CHAIN {
+            // Only these types link on; any other surface (a B-spline surface of many
+            // thousands of poles) ends the chain without being read.
+            if !matches!(self.entity(cur).map(Entity::entity_type), Ok(140 | 143 | 144 | 510)) {
+                return Ok(());
+            }
             let next = match self.view(cur) {
                 Ok(View::OffsetSurface(x)) => x.surface,
                 Ok(View::TrimmedSurface(x)) => x.surface,
@@ -1177,6 +1191,24 @@ impl Document {
             s.surface.transform_by(&m);
         }
         Ok(s)
+    }
+
+    /// [`face_surface`](Self::face_surface) of each of `faces`, in order. On rayon's
+    /// threads when there is enough to share (each conversion only reads the document):
+    /// [`PARALLEL_FACES`] faces or more, or surfaces of [`PARALLEL_LINES`] parameter lines
+    /// or more in all (a few large B-spline patches, whose reading and transposing
+    /// outweigh a thread's start by far); this is how a model is loaded.
+    pub fn face_surfaces(&self, faces: &[FaceRef]) -> Vec<Result<ExactSurface>> {
+        let lines: usize = faces.iter().filter_map(|f| self.entity(f.surface).ok()).map(|e| e.p_count).sum();
+        if rayon::current_num_threads() > 1
+            && faces.len() >= 2
+            && (faces.len() >= PARALLEL_FACES || lines >= PARALLEL_LINES)
+        {
+            use rayon::prelude::*;
+            faces.par_iter().map(|f| self.face_surface(f)).collect()
+        } else {
+            faces.iter().map(|f| self.face_surface(f)).collect()
+        }
     }
 
     /// Control points of the model-space boundary curves of a face (144, 143, 510), in

@@ -90,3 +90,18 @@ fn long_records_on_one_thread_and_many_agree() {
         assert_eq!(a.values(), b.values(), "{}", a.id());
     }
 }
+
+/// [`Document::face_surfaces`] (faces converted on threads, for a few large patches and
+/// for many small faces) gives each face's [`Document::face_surface`], in order.
+#[test]
+fn face_surfaces_are_each_face_surface() {
+    for bytes in [generate::hull(200, 150), generate::many_faces(300)] {
+        let doc = Document::parse(&bytes).unwrap();
+        let faces = doc.faces();
+        let all = doc.face_surfaces(&faces);
+        assert_eq!(all.len(), faces.len());
+        for (f, s) in faces.iter().zip(all) {
+            assert_eq!(s.unwrap().surface, doc.face_surface(f).unwrap().surface);
+        }
+    }
+}

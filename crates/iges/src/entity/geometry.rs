@@ -499,15 +499,23 @@ impl BSplineSurface {
             Raw::Integer(i) => i as f64,
             _ => 0.0,
         };
-        // File order: u index fastest. Cadmorph order: i * n_v + j. The tokens are read in
-        // file order (strided reads missed the cache on large patches), the poles placed.
+        // File order: u index fastest. Cadmorph order: i * n_v + j. The transpose goes by
+        // tiles of TILE × TILE poles, so that both the tokens read and the poles written
+        // stay within a few cache lines and pages per tile (a whole row or column at a
+        // time missed the cache, and the TLB, on every pole of a large patch).
+        const TILE: usize = 16;
         let mut points = vec![Point3::origin(); n];
         let mut w = vec![0.0; n];
-        for j in 0..n_v {
-            for i in 0..n_u {
-                let f = j * n_u + i;
-                points[i * n_v + j] = Point3::new(real(&xyz[3 * f]), real(&xyz[3 * f + 1]), real(&xyz[3 * f + 2]));
-                w[i * n_v + j] = real(&wf[f]);
+        for j0 in (0..n_v).step_by(TILE) {
+            for i0 in (0..n_u).step_by(TILE) {
+                for j in j0..(j0 + TILE).min(n_v) {
+                    for i in i0..(i0 + TILE).min(n_u) {
+                        let f = j * n_u + i;
+                        let p = &xyz[3 * f..3 * f + 3];
+                        points[i * n_v + j] = Point3::new(real(&p[0]), real(&p[1]), real(&p[2]));
+                        w[i * n_v + j] = real(&wf[f]);
+                    }
+                }
             }
         }
         let polynomial = props[2] == 1 || w.iter().all(|&x| x == w[0]);

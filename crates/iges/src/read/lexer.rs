@@ -146,7 +146,7 @@ enum Scan {
 /// The value of 8 digits (each byte 0–9) read little-endian, the first byte most
 /// significant (SWAR: pairs, then quads, then all).
 #[inline(always)]
-fn eight_digit_value(v: u64) -> u64 {
+pub(crate) fn eight_digit_value(v: u64) -> u64 {
     let v = (v & 0x0F0F_0F0F_0F0F_0F0F).wrapping_mul(2561) >> 8;
     let v = (v & 0x00FF_00FF_00FF_00FF).wrapping_mul(6_553_601) >> 16;
     (v & 0x0000_FFFF_0000_FFFF).wrapping_mul(42_949_672_960_001) >> 32

@@ -18,67 +18,126 @@ fn pos(section: char, line: usize, column: usize, entity: Option<u32>) -> Positi
     Position { section, line, column, entity }
 }
 
+/// The input's lines, and which of them [`sections`] must still look at.
+struct Split {
+    lines: Vec<Line>,
+    /// Indices, ascending, of every line but those the split confirmed while it had them
+    /// in the cache: an 80-column line whose columns 73–80 hold the section letter of the
+    /// line before it (other than T) and that line's sequence number plus one. Such a
+    /// line continues its section exactly as the line before did, so [`sections`] has
+    /// nothing to check in it.
+    unchecked: Vec<usize>,
+}
+
+/// Files from this size on (LF-terminated) are split in two halves on two threads.
+const PARALLEL_SPLIT: usize = 1 << 20;
+
 /// Splits the input into lines (LF, CRLF or CR), or into 80-byte records if it has no
 /// line terminators at all.
-fn split_lines(src: &[u8]) -> Vec<Line> {
-    let mut lines = Vec::with_capacity(src.len() / 81 + 1);
-    let has_cr = memchr::memchr(b'\r', src).is_some();
-    if !has_cr && memchr::memchr(b'\n', src).is_none() && src.len() > 80 {
+fn split_lines(src: &[u8]) -> Split {
+    // LF only, the common case: large files in two halves cut after a line feed. Any
+    // carriage return sends the file to the general splitter below.
+    let mid = src.len() / 2;
+    let cut = memchr::memchr(b'\n', &src[mid..]).map(|k| mid + k + 1);
+    let lf = match cut.filter(|&c| src.len() >= PARALLEL_SPLIT && c < src.len() && rayon::current_num_threads() > 1) {
+        Some(cut) => match rayon::join(|| split_lf(src, 0, cut), || split_lf(src, cut, src.len())) {
+            (Some(mut a), Some(b)) => {
+                let n = a.lines.len();
+                a.lines.extend_from_slice(&b.lines);
+                a.unchecked.extend(b.unchecked.iter().map(|k| k + n));
+                Some(a)
+            }
+            _ => None,
+        },
+        None => split_lf(src, 0, src.len()),
+    };
+    // Unless the input has no line terminator at all (one "line" of more than 80 bytes:
+    // 80-byte records without line feeds).
+    if let Some(split) = lf.filter(|s| !matches!(s.lines[..], [only] if only.end == only.next && src.len() > 80)) {
+        return split;
+    }
+    let mut lines = Vec::with_capacity(src.len() / 80 + 1);
+    if memchr::memchr2(b'\r', b'\n', src).is_none() && src.len() > 80 {
         let mut s = 0;
         while s < src.len() {
             let e = (s + 80).min(src.len());
             lines.push(Line { start: s, end: e, next: e });
             s = e;
         }
-        return lines;
+        return Split { unchecked: (0..lines.len()).collect(), lines };
     }
     let mut s = 0;
-    if !has_cr {
-        // LF only: the common case. Lines of 80 columns are taken at a glance (the 80
-        // bytes checked to hold no line feed, 8 at a time), others found with memchr.
-        while s < src.len() {
-            if let Some(line) = src.get(s..s + 81).and_then(|l| l.first_chunk::<81>()) {
-                if line[80] == b'\n' && !has_line_feed(line) {
-                    lines.push(Line { start: s, end: s + 80, next: s + 81 });
-                    s += 81;
-                    continue;
-                }
+    let mut i = 0;
+    while i < src.len() {
+        match src[i] {
+            b'\n' => {
+                let end = if i > s && src[i - 1] == b'\r' { i - 1 } else { i };
+                lines.push(Line { start: s, end, next: i + 1 });
+                s = i + 1;
             }
-            let Some(k) = memchr::memchr(b'\n', &src[s..]) else { break };
-            lines.push(Line { start: s, end: s + k, next: s + k + 1 });
-            s += k + 1;
-        }
-    } else {
-        let mut i = 0;
-        while i < src.len() {
-            match src[i] {
-                b'\n' => {
-                    let end = if i > s && src[i - 1] == b'\r' { i - 1 } else { i };
-                    lines.push(Line { start: s, end, next: i + 1 });
-                    s = i + 1;
-                }
-                b'\r' if src.get(i + 1) != Some(&b'\n') => {
-                    lines.push(Line { start: s, end: i, next: i + 1 });
-                    s = i + 1;
-                }
-                _ => {}
+            b'\r' if src.get(i + 1) != Some(&b'\n') => {
+                lines.push(Line { start: s, end: i, next: i + 1 });
+                s = i + 1;
             }
-            i += 1;
+            _ => {}
         }
+        i += 1;
     }
     if s < src.len() {
         lines.push(Line { start: s, end: src.len(), next: src.len() });
     }
-    lines
+    Split { unchecked: (0..lines.len()).collect(), lines }
 }
 
-/// Whether the first 80 bytes of `line` hold a line feed.
-fn has_line_feed(line: &[u8; 81]) -> bool {
+/// The LF-terminated lines of `src[from..to]` (`from` at a line's start, `to` after a
+/// line feed or at the input's end), or `None` if that text holds a carriage return.
+/// Lines of 80 columns are taken at a glance (the 80 bytes checked to hold no line feed
+/// or carriage return, 8 at a time) and their section letter and sequence number
+/// compared with the line before's (see [`Split::unchecked`]); others are found with
+/// memchr. The first line is always unchecked.
+fn split_lf(src: &[u8], from: usize, to: usize) -> Option<Split> {
+    let src = &src[..to];
+    let mut lines = Vec::with_capacity((to - from) / 81 + 1);
+    let mut unchecked = Vec::new();
+    // Section letter and sequence number of the line before, if it was an 80-column one.
+    let mut before: Option<(u8, usize)> = None;
+    let mut s = from;
+    while s < src.len() {
+        if let Some(line) = src.get(s..s + 81).and_then(|l| l.first_chunk::<81>()) {
+            if line[80] == b'\n' && !has_line_end(line) {
+                let tail = [line[72], line[73], line[74], line[75], line[76], line[77], line[78], line[79]];
+                let seq = seven_digits(tail);
+                let continues = matches!((before, seq), (Some((letter, n)), Some(m)) if letter == tail[0] && letter != b'T' && m == n + 1);
+                if !continues {
+                    unchecked.push(lines.len());
+                }
+                before = seq.map(|m| (tail[0], m));
+                lines.push(Line { start: s, end: s + 80, next: s + 81 });
+                s += 81;
+                continue;
+            }
+        }
+        let k = memchr::memchr(b'\n', &src[s..]).unwrap_or(src.len() - s);
+        if memchr::memchr(b'\r', &src[s..s + k]).is_some() {
+            return None;
+        }
+        unchecked.push(lines.len());
+        before = None;
+        lines.push(Line { start: s, end: s + k, next: (s + k + 1).min(src.len()) });
+        s += k + 1;
+    }
+    Some(Split { lines, unchecked })
+}
+
+/// Whether the first 80 bytes of `line` hold a line feed or a carriage return.
+fn has_line_end(line: &[u8; 81]) -> bool {
     let mut any = 0u64;
     for c in line[..80].chunks_exact(8) {
-        let x = u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]) ^ 0x0A0A_0A0A_0A0A_0A0A;
+        let w = u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]);
         // High bit of each zero byte (exact: no borrow between bytes).
-        any |= !(((x & 0x7F7F_7F7F_7F7F_7F7F) + 0x7F7F_7F7F_7F7F_7F7F) | x) & 0x8080_8080_8080_8080;
+        for x in [w ^ 0x0A0A_0A0A_0A0A_0A0A, w ^ 0x0D0D_0D0D_0D0D_0D0D] {
+            any |= !(((x & 0x7F7F_7F7F_7F7F_7F7F) + 0x7F7F_7F7F_7F7F_7F7F) | x) & 0x8080_8080_8080_8080;
+        }
     }
     any != 0
 }
@@ -95,15 +154,60 @@ fn sequence_number(field: &[u8]) -> Option<usize> {
     Some(field.iter().fold(0usize, |n, &d| n * 10 + usize::from(d - b'0')))
 }
 
+/// The number in columns 74–80 of a line whose columns 73–80 are `field`, if those seven
+/// columns are digits after any leading blanks (the forms writers use, zero-padded or
+/// not); `None` for anything else, which [`sequence_number`] then decides. Eight bytes
+/// at once (SWAR), as the tokenizer reads digits.
+fn seven_digits(field: [u8; 8]) -> Option<usize> {
+    const LOW7: u64 = 0x7F7F_7F7F_7F7F_7F7F;
+    let x = u64::from_le_bytes(field);
+    let t = x ^ 0x2020_2020_2020_2020;
+    // 0x80 in each byte of `t` that is zero, i.e. each blank of `x` (exact: no borrows).
+    let z = !(((t & LOW7).wrapping_add(LOW7)) | t | LOW7);
+    // 0xFF over the blanks of columns 74–80 (byte 0, column 73, is the section letter).
+    let blanks = ((z >> 7) * 0xFF) & !0xFF;
+    let lead = blanks >> 8;
+    // Blanks must lead (a run from column 74), and a digit must follow them.
+    if lead & lead.wrapping_add(1) != 0 || lead == 0x00FF_FFFF_FFFF_FFFF {
+        return None;
+    }
+    // Blanks become '0' (0x20 | 0x10), the letter too; then every byte must be a digit.
+    let v = ((x | (blanks & 0x1010_1010_1010_1010)) & !0xFF) | 0x30;
+    let d = v ^ 0x3030_3030_3030_3030;
+    let nd = (d.wrapping_add(0x7676_7676_7676_7676) | d) & 0x8080_8080_8080_8080;
+    (nd == 0).then(|| lexer::eight_digit_value(d) as usize)
+}
+
 /// Finds the sections; checks letters, order and sequence numbers.
-fn sections(src: &[u8], lines: &[Line]) -> Result<Layout> {
+fn sections(src: &[u8], lines: &[Line], unchecked: &[usize]) -> Result<Layout> {
     const ORDER: [u8; 5] = [b'S', b'G', b'D', b'P', b'T'];
     let mut first = [usize::MAX; 5];
     let mut last = [0usize; 5];
     let mut current = 0usize;
     let mut terminate = None;
-    for (k, l) in lines.iter().enumerate() {
+    // Lines the split confirmed are skipped: each continues the section of the line
+    // before it, so only the section's end moves.
+    let mut done = 0;
+    for &k in unchecked.iter().chain(std::iter::once(&lines.len())) {
+        if k > done {
+            last[current] = k;
+        }
+        done = k + 1;
+        let Some(l) = lines.get(k) else { break };
         let text = &src[l.start..l.end];
+        // The bulk of a file: an 80-column line of the section the line before was in,
+        // numbered (zero-padded or not) one after it. Anything else, and every error,
+        // goes through the general steps below.
+        if let Some(&tail) = text.get(72..80).and_then(|t| t.first_chunk::<8>()) {
+            if text.len() == 80 && first[current] != usize::MAX && tail[0] == ORDER[current] && current != 4 {
+                if let Some(n) = seven_digits(tail) {
+                    if n == k - first[current] + 1 {
+                        last[current] = k + 1;
+                        continue;
+                    }
+                }
+            }
+        }
         if terminate.is_some() {
             if is_blank_line(text) {
                 continue;
@@ -371,10 +475,11 @@ fn directory(a: &[u8], b: &[u8], line: usize, entries: usize) -> Result<Director
 
 /// Reads the whole document, taking ownership of the bytes (kept for writing).
 pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
-    let lines = split_lines(&source);
+    let Split { lines, unchecked } = split_lines(&source);
     let src = Arc::new(Source { bytes: source, lines });
     let (bytes, lines) = (&src.bytes[..], &src.lines[..]);
-    let layout = sections(bytes, lines)?;
+    let layout = sections(bytes, lines, &unchecked)?;
+    drop(unchecked);
     let global = global(bytes, lines, &layout)?;
     let (pd, rd) = (global.0.parameter_delimiter, global.0.record_delimiter);
 
@@ -525,9 +630,130 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
 mod tests {
     use super::*;
 
+    proptest::proptest! {
+        /// The eight-byte sequence-number reader agrees with the general one wherever it
+        /// answers (and answers on the usual forms).
+        #[test]
+        fn seven_digits_agrees_with_sequence_number(
+            cols in proptest::collection::vec(proptest::sample::select(vec![b' ', b'0', b'1', b'5', b'9', b'P', b'/', b':', 0x7F, 0xB0]), 8),
+        ) {
+            let f: [u8; 8] = cols.try_into().unwrap();
+            if let Some(n) = seven_digits(f) {
+                proptest::prop_assert_eq!(Some(n), sequence_number(trim(&f[1..])));
+            }
+        }
+
+        #[test]
+        fn seven_digits_reads_both_paddings(n in 1usize..10_000_000, letter in proptest::sample::select(vec![b'S', b'G', b'D', b'P', b'T'])) {
+            for text in [format!("{n:07}"), format!("{n:>7}")] {
+                let mut f = [letter; 8];
+                f[1..].copy_from_slice(text.as_bytes());
+                proptest::prop_assert_eq!(seven_digits(f), Some(n));
+            }
+        }
+    }
+
+    /// The splitter as it was before the split checked sequence numbers and ran on two
+    /// threads: the reference for [`split_lines`].
+    fn reference_split(src: &[u8]) -> Vec<(usize, usize, usize)> {
+        let mut out = Vec::new();
+        let has_cr = src.contains(&b'\r');
+        if !has_cr && !src.contains(&b'\n') && src.len() > 80 {
+            for s in (0..src.len()).step_by(80) {
+                let e = (s + 80).min(src.len());
+                out.push((s, e, e));
+            }
+            return out;
+        }
+        let mut s = 0;
+        for i in 0..src.len() {
+            if src[i] == b'\n' {
+                let end = if has_cr && i > s && src[i - 1] == b'\r' { i - 1 } else { i };
+                out.push((s, end, i + 1));
+                s = i + 1;
+            } else if has_cr && src[i] == b'\r' && src.get(i + 1) != Some(&b'\n') {
+                out.push((s, i, i + 1));
+                s = i + 1;
+            }
+        }
+        if s < src.len() {
+            out.push((s, src.len(), src.len()));
+        }
+        out
+    }
+
+    /// A line of a file for the split tests: an 80-column line of section `letter`
+    /// numbered `n` (zero-padded or blank-padded), or something else.
+    fn test_line(kind: u8, letter: u8, n: usize) -> Vec<u8> {
+        let mut l = vec![b'x'; 72];
+        l.push(letter);
+        match kind {
+            0 => l.extend_from_slice(format!("{n:07}").as_bytes()),
+            1 => l.extend_from_slice(format!("{n:>7}").as_bytes()),
+            2 => l.extend_from_slice(format!("{:07}", n + 1).as_bytes()),
+            3 => l.extend_from_slice(b"       "),
+            4 => l.truncate(30),
+            5 => l.extend_from_slice(format!("{n:07}  ").as_bytes()),
+            _ => l.extend_from_slice(format!("{n:<7}").as_bytes()),
+        }
+        l.push(b'\n');
+        l
+    }
+
+    /// Lines of sections S, G, D, P (`p_lines` of them), T, mostly well numbered, some
+    /// not; with a line end changed to CRLF or CR where asked.
+    fn test_file(kinds: &[(u8, u8)], p_lines: usize, cr: Option<(usize, bool)>) -> Vec<u8> {
+        let mut src = Vec::new();
+        let mut k = 0;
+        for (section, letter) in [b'S', b'G', b'D', b'P', b'T'].iter().enumerate() {
+            let count = if section == 3 { p_lines } else { 2 };
+            for n in 1..=count {
+                let (kind, odd) = kinds[k % kinds.len()];
+                k += 1;
+                let l = if odd == 1 { b'P' } else { *letter };
+                src.extend(test_line(kind, l, n));
+            }
+        }
+        if let Some((at, crlf)) = cr {
+            let at = at % src.len();
+            if let Some(k) = src[at..].iter().position(|&c| c == b'\n') {
+                if crlf {
+                    src.insert(at + k, b'\r');
+                } else {
+                    src[at + k] = b'\r';
+                }
+            }
+        }
+        src
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+        /// The split gives the lines the plain splitter gives, and the layout (or the
+        /// error) [`sections`] finds from its unchecked lines is the one it finds
+        /// looking at every line.
+        #[test]
+        fn split_and_sections_agree_with_the_plain_reading(
+            kinds in proptest::collection::vec((proptest::prop_oneof![8 => proptest::prelude::Just(0u8), 1 => 0u8..7], proptest::prop_oneof![20 => proptest::prelude::Just(0u8), 1 => proptest::prelude::Just(1u8)]), 1..40),
+            // Over 1 MiB (14 000 lines) the split runs on two threads.
+            p_lines in proptest::prop_oneof![3 => 1usize..120, 1 => proptest::prelude::Just(14_000usize)],
+            cr in proptest::option::of((0usize..2_000_000, proptest::bool::ANY)),
+        ) {
+            let src = test_file(&kinds, p_lines, cr);
+            let split = split_lines(&src);
+            let got: Vec<_> = split.lines.iter().map(|l| (l.start, l.end, l.next)).collect();
+            proptest::prop_assert_eq!(&got, &reference_split(&src));
+            proptest::prop_assert!(split.unchecked.windows(2).all(|w| w[0] < w[1]));
+            let all: Vec<usize> = (0..split.lines.len()).collect();
+            let fast = sections(&src, &split.lines, &split.unchecked);
+            let slow = sections(&src, &split.lines, &all);
+            proptest::prop_assert_eq!(format!("{fast:?}"), format!("{slow:?}"));
+        }
+    }
+
     #[test]
     fn line_endings() {
-        let l = split_lines(b"a\r\nb\nc\rd");
+        let l = split_lines(b"a\r\nb\nc\rd").lines;
         let spans: Vec<_> = l.iter().map(|l| (l.start, l.end, l.next)).collect();
         assert_eq!(spans, vec![(0, 1, 3), (3, 4, 5), (5, 6, 7), (7, 8, 8)]);
     }
@@ -546,7 +772,7 @@ mod tests {
         }
         src.extend_from_slice(b"tail");
         want.push((src.len() - 4, src.len(), src.len()));
-        let got: Vec<_> = split_lines(&src).iter().map(|l| (l.start, l.end, l.next)).collect();
+        let got: Vec<_> = split_lines(&src).lines.iter().map(|l| (l.start, l.end, l.next)).collect();
         assert_eq!(got, want);
     }
 }
