@@ -286,6 +286,22 @@ fn scan(text: &[u8], start: usize) -> Scan {
     Scan::Value(Raw::Real(if neg { -v } else { v }), i)
 }
 
+/// The first offset at or after `pos` that is not a blank (or the text's end): runs of
+/// eight spaces at a glance, then byte by byte.
+#[inline(always)]
+fn skip_blanks(text: &[u8], mut pos: usize) -> usize {
+    while let Some(chunk) = text.get(pos..).and_then(|t| t.first_chunk::<8>()) {
+        if u64::from_le_bytes(*chunk) != 0x2020_2020_2020_2020 {
+            break;
+        }
+        pos += 8;
+    }
+    while pos < text.len() && is_blank(text[pos]) {
+        pos += 1;
+    }
+    pos
+}
+
 /// Whether `c` can be part of a number or Hollerith count (then it cannot be a delimiter
 /// for the one-pass scan).
 fn numeric(c: u8) -> bool {
@@ -545,7 +561,16 @@ pub(crate) fn tokenize_until<S: Sink>(
             // numbers) leaves this loop for the general steps below, which see the same
             // text as if this loop had not run.
             while pos < stop {
-                let Scan::Value(raw, end) = scan(text, pos) else { break };
+                let Scan::Value(raw, end) = scan(text, pos) else {
+                    // Blanks before a parameter (the padding at the end of each P line's
+                    // data field): skipped eight at a time, then the scan goes on.
+                    let q = skip_blanks(text, pos);
+                    if q > pos && q < len {
+                        pos = q;
+                        continue;
+                    }
+                    break;
+                };
                 if text.get(end) != Some(&pd) {
                     break;
                 }
