@@ -236,6 +236,12 @@ impl Document {
     }
 
     pub(crate) fn name_of(&self, k: usize) -> &str {
+        std::str::from_utf8(self.name_bytes(k)).unwrap_or("")
+    }
+
+    /// [`name_of`](Self::name_of) as bytes (no UTF-8 check: for comparisons in loops
+    /// over every instance).
+    pub(crate) fn name_bytes(&self, k: usize) -> &[u8] {
         let inst = &self.instances[k];
         let text = self.text(k);
         let mut s = inst.body as usize;
@@ -246,7 +252,7 @@ impl Document {
                 s = t.start;
             }
         }
-        std::str::from_utf8(&text[s..s + inst.name_len as usize]).unwrap_or("")
+        &text[s..s + inst.name_len as usize]
     }
 
     pub(crate) fn body_at(&self, k: usize) -> Result<Body<'_>> {

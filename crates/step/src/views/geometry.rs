@@ -7,7 +7,7 @@ use cadmorph_nurbs::analytic::{
 use cadmorph_nurbs::math::{Matrix3, Matrix4, Point3, Vector3};
 use cadmorph_nurbs::{Curve, CurveProject, KnotVector, NurbsCurve, NurbsSurface};
 
-use super::{Ctx, Rec};
+use super::{Ctx, Rec, SurfaceKind};
 use crate::error::{Error, Result};
 use crate::read::param::{Body, Param, Value};
 use crate::EntityId;
@@ -469,6 +469,48 @@ impl<'a> Ctx<'a> {
 
     /// `B_SPLINE_SURFACE_WITH_KNOTS` (simple) or the rational complex form.
     pub fn bspline_surface(&self, k: usize, body: Body<'_>) -> Result<NurbsSurface> {
+        let (net, head) = self.bspline_net(k, body)?;
+        let points = self.points(&net.ids)?;
+        NurbsSurface::try_new(net.degrees, net.knots, net.counts, points, net.weights).map_err(|e| head.geometry(e))
+    }
+
+    /// What [`Document::faces`] lists of a B-spline surface (instance position `k`):
+    /// read from its own record (degrees, knot vectors, weights, the net of references)
+    /// and checked as [`bspline_surface`](Self::bspline_surface) checks it, each
+    /// reference checked to name a `CARTESIAN_POINT` instance, but the points'
+    /// coordinates not read (that is the bulk of a large surface's reading, done again
+    /// when the face is converted).
+    pub fn bspline_surface_kind(&self, k: usize, body: Body<'_>) -> Result<SurfaceKind> {
+        let (net, head) = self.bspline_net(k, body)?;
+        for (n, id) in net.ids.iter().enumerate() {
+            let j = self.index(*id)?;
+            if self.doc.instances[j].complex || self.doc.name_bytes(j) != b"CARTESIAN_POINT" {
+                let row = net.counts.1.max(1);
+                return Err(Error::UnexpectedEntity {
+                    at: self.doc.position_of_id(*id),
+                    expected: "a CARTESIAN_POINT (a control point)",
+                    found: format!("{} (control point {} of row {})", self.doc.name_of(j), n % row + 1, n / row + 1),
+                });
+            }
+        }
+        let rational = net.weights.is_some();
+        let points = vec![Point3::origin(); net.ids.len()];
+        let s = NurbsSurface::try_new(net.degrees, net.knots, net.counts, points, net.weights)
+            .map_err(|e| head.geometry(e))?;
+        Ok(SurfaceKind::BSpline {
+            u_degree: s.u_degree(),
+            v_degree: s.v_degree(),
+            n_u: s.n_u(),
+            n_v: s.n_v(),
+            rational,
+        })
+    }
+
+    /// A B-spline surface's record read up to its control points: their references.
+    fn bspline_net<'b>(&self, k: usize, body: Body<'b>) -> Result<(BSplineNet, Rec<'b>)>
+    where
+        'a: 'b,
+    {
         let (head, knots_rec, weights) = match body {
             Body::Simple(rec) => {
                 let r = Rec::from_record(self.doc, k, rec);
@@ -513,7 +555,6 @@ impl<'a> Ctx<'a> {
                 ids.push(p.as_ref_id().ok_or_else(|| head.err_at(p, 2, "a point reference"))?);
             }
         }
-        let points = self.points(&ids)?;
         let weights = match weights {
             Some(w) => {
                 let rows = w.list(0)?;
@@ -536,8 +577,18 @@ impl<'a> Ctx<'a> {
         };
         let uk = knot_vector(&knots_rec, &knots_rec.reals(2)?, &knots_rec.usizes(0)?)?;
         let vk = knot_vector(&knots_rec, &knots_rec.reals(3)?, &knots_rec.usizes(1)?)?;
-        NurbsSurface::try_new((p, q), (uk, vk), (n_u, n_v), points, weights).map_err(|e| head.geometry(e))
+        Ok((BSplineNet { degrees: (p, q), knots: (uk, vk), counts: (n_u, n_v), ids, weights }, head))
     }
+}
+
+/// A B-spline surface's record read up to its control points.
+struct BSplineNet {
+    degrees: (usize, usize),
+    knots: (KnotVector, KnotVector),
+    counts: (usize, usize),
+    /// The control points' references, row by row (u index slowest).
+    ids: Vec<EntityId>,
+    weights: Option<Vec<f64>>,
 }
 
 fn knot_vector(r: &Rec<'_>, values: &[f64], mults: &[usize]) -> Result<KnotVector> {

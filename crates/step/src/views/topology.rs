@@ -123,6 +123,11 @@ impl Ctx<'_> {
         let mut defined: HashMap<u64, bool> = HashMap::new();
         for k in 0..doc.instances.len() {
             let inst = &doc.instances[k];
+            // Every name looked for below holds REPRESENTATION: the bulk of a file's
+            // instances (points, curves, topology) are passed over from their bytes.
+            if !inst.complex && !contains(doc.name_bytes(k), b"REPRESENTATION") {
+                continue;
+            }
             let name = doc.name_of(k);
             let id = EntityId(inst.id);
             if !inst.complex && is_shape_rep(name) {
@@ -469,6 +474,23 @@ impl Ctx<'_> {
         }
     }
 
+    /// The kind of surface `id` is: B-spline surfaces from their own record
+    /// ([`bspline_surface_kind`](Self::bspline_surface_kind): their control points'
+    /// coordinates are read when the face is converted), any other surface converted
+    /// ([`surface`](Self::surface)) and classified ([`surface_kind`](Self::surface_kind)).
+    ///
+    /// # Errors
+    ///
+    /// As [`surface`](Self::surface), for what it reads.
+    pub fn surface_kind_of(&self, id: EntityId) -> Result<SurfaceKind> {
+        let k = self.index(id)?;
+        let body = self.doc.body_at(k)?;
+        if matches!(body, Body::Complex(_)) || self.doc.name_bytes(k) == b"B_SPLINE_SURFACE_WITH_KNOTS" {
+            return self.bspline_surface_kind(k, body);
+        }
+        self.surface(id).map(|g| self.surface_kind(&g))
+    }
+
     pub fn surface_kind(&self, g: &SurfaceGeom) -> SurfaceKind {
         match g {
             SurfaceGeom::Plane(_) => SurfaceKind::Plane,
@@ -509,7 +531,10 @@ impl Document {
     /// `MAPPED_ITEM` whose origin or target is not an `AXIS2_PLACEMENT_3D`), placement
     /// cycles ([`Error::ReferenceCycle`] at the `MAPPED_ITEM` or relationship that closes
     /// it), absurd assembly fan-out or nesting ([`Error::Limit`]). A face whose surface
-    /// cannot be converted is still listed, with [`SurfaceKind::Other`].
+    /// cannot be read is still listed, with [`SurfaceKind::Other`]; a B-spline surface
+    /// is read here up to its control points' references (each must name a
+    /// `CARTESIAN_POINT`), their coordinates only when the face is converted
+    /// ([`face_nurbs`](Self::face_nurbs)).
     pub fn faces(&self) -> Result<Vec<Face>> {
         let (ctx, units) = self.ctx()?;
         let mut out = Vec::new();
@@ -537,8 +562,8 @@ impl Document {
                 let kind = match kinds.get(&surface.0) {
                     Some(k) => k.clone(),
                     None => {
-                        let k = match ctx.surface(surface) {
-                            Ok(g) => ctx.surface_kind(&g),
+                        let k = match ctx.surface_kind_of(surface) {
+                            Ok(k) => k,
                             Err(Error::ReferenceCycle { at, target }) => {
                                 return Err(Error::ReferenceCycle { at, target })
                             }
