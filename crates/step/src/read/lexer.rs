@@ -90,7 +90,7 @@ fn keyword_end(s: &[u8], i: usize) -> Option<usize> {
 
 /// `[+-]digits[.digits][E[+-]digits]` from `i`: the end and whether a `.` or an exponent
 /// made it real. An `E` not followed by digits is not part of the number.
-fn number_end(s: &[u8], i: usize) -> Option<(usize, bool)> {
+pub(crate) fn number_end(s: &[u8], i: usize) -> Option<(usize, bool)> {
     let digits = run(s, if matches!(s.get(i), Some(b'+' | b'-')) { i + 1 } else { i }, |c| c.is_ascii_digit());
     if digits == i || !s[digits - 1].is_ascii_digit() {
         return None;
@@ -118,7 +118,7 @@ fn enumeration_end(s: &[u8], i: usize) -> Option<usize> {
 }
 
 /// `#digits` or `@digits` from `i` (at the `#` or `@`): the end.
-fn reference_end(s: &[u8], i: usize) -> Option<usize> {
+pub(crate) fn reference_end(s: &[u8], i: usize) -> Option<usize> {
     let end = run(s, i + 1, |c| c.is_ascii_digit());
     (end > i + 1).then_some(end)
 }

@@ -65,6 +65,35 @@ impl<'a> Reader<'a> {
         let mut want_param = true; // a parameter or `)` may follow
         let mut after_comma = false;
         loop {
+            if want_param && fast_forms() {
+                // The bulk of large files: a reference or a number directly followed by
+                // `,` or `)` (no blank, no comment between). Read here without tokens;
+                // the general steps below would read the same and stand at the same place.
+                let (s, p) = (self.lx.src, self.lx.pos);
+                let end = match s.get(p) {
+                    Some(b'#') => lexer::reference_end(s, p),
+                    Some(b'+' | b'-' | b'0'..=b'9') => lexer::number_end(s, p).map(|(e, _)| e),
+                    _ => None,
+                };
+                if let Some(e) = end.filter(|&e| matches!(s.get(e), Some(b',' | b')'))) {
+                    if s[p] == b'#' {
+                        let id = reference_id(&s[p..e])
+                            .ok_or_else(|| Error::Limit { at: self.at(p), what: "instance id does not fit 64 bits" })?;
+                        refs.push((id, p));
+                    }
+                    self.lx.pos = e + 1;
+                    if s[e] == b',' {
+                        after_comma = true;
+                        continue;
+                    }
+                    depth -= 1;
+                    if depth == 0 {
+                        return Ok(());
+                    }
+                    want_param = false;
+                    continue;
+                }
+            }
             let t = self.next()?;
             if want_param {
                 match t.kind {
@@ -138,6 +167,22 @@ impl<'a> Reader<'a> {
         }
         Ok((t, &self.lx.src[t.start..t.end]))
     }
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Tests only: every parameter read through tokens, the fast forms of
+    /// [`Reader::params`] off (the reference they are checked against).
+    static TOKENS_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Whether [`Reader::params`] may read a reference or number without tokens (always,
+/// but in the tests that compare it with the token reading).
+fn fast_forms() -> bool {
+    #[cfg(test)]
+    return !TOKENS_ONLY.with(std::cell::Cell::get);
+    #[cfg(not(test))]
+    true
 }
 
 /// What the instance loop gathered from (part of) a data section.
@@ -543,6 +588,69 @@ mod tests {
         }
         f.push_str("END-ISO-10303-21;\n");
         f
+    }
+
+    /// A parameter list's text from `seed` (a small linear congruential generator):
+    /// references, numbers, strings, unset and derived values, enumerations, nested and
+    /// typed lists, with no blank, a blank or a comment between tokens.
+    fn parameter_text(seed: &mut u64, depth: usize, out: &mut String) {
+        fn next(seed: &mut u64, n: u64) -> u64 {
+            *seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (*seed >> 33) % n
+        }
+        const VALUES: [&str; 14] =
+            ["#12", "#7", "#0", "1.5", "-2", "+3.", "1.E5", "2.5E-07", "'s'", "'it''s'", "$", "*", ".T.", "\"0F\""];
+        const GAPS: [&str; 4] = ["", "", " ", "/* c */"];
+        let items = next(seed, 5);
+        for k in 0..items {
+            if k > 0 {
+                out.push_str(GAPS[next(seed, 4) as usize]);
+                out.push(',');
+                out.push_str(GAPS[next(seed, 4) as usize]);
+            }
+            match next(seed, 8) {
+                0 if depth < 2 => {
+                    out.push('(');
+                    parameter_text(seed, depth + 1, out);
+                    out.push(')');
+                }
+                1 if depth < 2 => {
+                    out.push_str("B(");
+                    parameter_text(seed, depth + 1, out);
+                    out.push(')');
+                }
+                _ => out.push_str(VALUES[next(seed, VALUES.len() as u64) as usize]),
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// A reference or number read without tokens (directly followed by `,` or `)`)
+        /// gives what the token reading gives: the same references at the same offsets,
+        /// the same instance, or the same error at the same place. Well-formed lists,
+        /// and the same with a stray piece put somewhere.
+        #[test]
+        fn fast_parameter_forms_read_as_tokens(
+            seed in proptest::prelude::any::<u64>(),
+            stray in proptest::option::of((proptest::prelude::any::<proptest::sample::Index>(), proptest::sample::select(vec![
+                "#99999999999999999999999", "#", "1.E", "12AB", "-", ",", ")", "(", ",)", "#3#4", "1..2",
+            ]))),
+        ) {
+            let mut body = String::new();
+            parameter_text(&mut seed.clone(), 0, &mut body);
+            if let Some((at, piece)) = stray {
+                let at = at.index(body.len() + 1);
+                if body.is_char_boundary(at) {
+                    body.insert_str(at, piece);
+                }
+            }
+            let text = format!("#1=A({body});");
+            let fast = format!("{:?}", scan_instance_at(text.as_bytes()));
+            TOKENS_ONLY.with(|c| c.set(true));
+            let tokens = format!("{:?}", scan_instance_at(text.as_bytes()));
+            TOKENS_ONLY.with(|c| c.set(false));
+            proptest::prop_assert_eq!(fast, tokens, "{}", text);
+        }
     }
 
     /// Read in pieces on several threads (cut at line starts, some inside strings and
