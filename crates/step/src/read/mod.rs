@@ -37,6 +37,7 @@ impl<'a> Reader<'a> {
         }
     }
 
+    #[inline(always)]
     fn next(&mut self) -> Result<Token> {
         self.lx.next_token().map_err(|e| self.lex_error(e))
     }
@@ -49,6 +50,7 @@ impl<'a> Reader<'a> {
         }
     }
 
+    #[inline(always)]
     fn expect(&mut self, kind: Kind, expected: &'static str) -> Result<Token> {
         let t = self.next()?;
         if t.kind == kind {
@@ -65,32 +67,67 @@ impl<'a> Reader<'a> {
         let mut want_param = true; // a parameter or `)` may follow
         let mut after_comma = false;
         loop {
-            if want_param && fast_forms() {
-                // The bulk of large files: a reference or a number directly followed by
-                // `,` or `)` (no blank, no comment between). Read here without tokens;
-                // the general steps below would read the same and stand at the same place.
+            if fast_forms() {
+                // The bulk of large files: parameters, commas and parentheses with no blank
+                // or comment between them, read from their first byte without tokens. The
+                // general steps below would read the same and stand at the same place;
+                // anything else (and every error but the depth limit) is left to them.
                 let (s, p) = (self.lx.src, self.lx.pos);
-                let end = match s.get(p) {
-                    Some(b'#') => lexer::reference_end(s, p),
-                    Some(b'+' | b'-' | b'0'..=b'9') => lexer::number_end(s, p).map(|(e, _)| e),
-                    _ => None,
-                };
-                if let Some(e) = end.filter(|&e| matches!(s.get(e), Some(b',' | b')'))) {
-                    if s[p] == b'#' {
-                        let id = reference_id(&s[p..e])
-                            .ok_or_else(|| Error::Limit { at: self.at(p), what: "instance id does not fit 64 bits" })?;
-                        refs.push((id, p));
-                    }
-                    self.lx.pos = e + 1;
-                    if s[e] == b',' {
-                        after_comma = true;
+                let c = s.get(p).copied().unwrap_or(0);
+                if want_param {
+                    let value_end = match c {
+                        b'#' => lexer::reference_end(s, p),
+                        b'+' | b'-' | b'0'..=b'9' => lexer::number_end(s, p).map(|(e, _)| e),
+                        b'$' | b'*' => Some(p + 1),
+                        // A string without doubled apostrophes.
+                        b'\'' => s[p + 1..]
+                            .iter()
+                            .position(|&b| b == b'\'')
+                            .map(|k| p + k + 2)
+                            .filter(|&e| s.get(e) != Some(&b'\'')),
+                        _ => None,
+                    };
+                    if let Some(e) = value_end {
+                        if c == b'#' {
+                            let id = reference_id(&s[p..e]).ok_or_else(|| Error::Limit {
+                                at: self.at(p),
+                                what: "instance id does not fit 64 bits",
+                            })?;
+                            refs.push((id, p));
+                        }
+                        self.lx.pos = e;
+                        want_param = false;
                         continue;
                     }
+                    if c == b'(' {
+                        depth += 1;
+                        if depth > param::MAX_DEPTH {
+                            return Err(Error::Limit { at: self.at(p), what: "lists nested too deeply" });
+                        }
+                        after_comma = false;
+                        self.lx.pos = p + 1;
+                        continue;
+                    }
+                    if c == b')' && !after_comma {
+                        self.lx.pos = p + 1;
+                        depth -= 1;
+                        if depth == 0 {
+                            return Ok(());
+                        }
+                        want_param = false;
+                        continue;
+                    }
+                } else if c == b',' {
+                    self.lx.pos = p + 1;
+                    want_param = true;
+                    after_comma = true;
+                    continue;
+                } else if c == b')' {
+                    self.lx.pos = p + 1;
                     depth -= 1;
                     if depth == 0 {
                         return Ok(());
                     }
-                    want_param = false;
                     continue;
                 }
             }
@@ -199,6 +236,13 @@ struct Gathered {
 impl Gathered {
     /// Appends `other`, read after `self`.
     fn append(&mut self, other: Gathered) {
+        if self.instances.is_empty() && self.refs.is_empty() {
+            // Nothing to keep: take `other` whole (no copy).
+            let max_id = self.max_id.max(other.max_id);
+            *self = other;
+            self.max_id = max_id;
+            return;
+        }
         let base = self.instances.len() as u32;
         self.ref_owner.extend(other.ref_owner.into_iter().map(|k| k + base));
         self.instances.extend(other.instances);
@@ -341,8 +385,18 @@ impl Reader<'_> {
                 (end.map(|e| (piece, e)), r.lx.pos)
             })
             .collect();
+        // Room for every piece read, so that appending them copies each once.
+        let (n_inst, n_refs) = read
+            .iter()
+            .filter_map(|(r, _)| r.as_ref().ok())
+            .fold((0, 0), |(i, r), (p, _)| (i + p.instances.len(), r + p.refs.len()));
         let mut all = Gathered::default();
         for (i, (result, pos)) in read.into_iter().enumerate() {
+            if i == 1 {
+                all.instances.reserve(n_inst.saturating_sub(all.instances.len()));
+                all.refs.reserve(n_refs.saturating_sub(all.refs.len()));
+                all.ref_owner.reserve(n_refs.saturating_sub(all.ref_owner.len()));
+            }
             match result {
                 Ok((piece, DataEnd::Stop)) if Some(pos) == cuts.get(i).copied() => all.append(piece),
                 Ok((piece, DataEnd::Endsec(at))) => {
