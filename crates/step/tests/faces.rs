@@ -56,3 +56,19 @@ fn a_control_point_that_is_not_a_point_makes_the_surface_other() {
     let doc = Document::parse(text.as_bytes()).unwrap();
     assert!(matches!(doc.faces().unwrap()[0].kind, SurfaceKind::BSpline { .. }));
 }
+
+/// `Document::faces_nurbs` (each face entity converted once, then placed for each of its
+/// occurrences) gives exactly `Document::face_nurbs` of every face, assemblies included.
+#[test]
+fn faces_nurbs_is_face_nurbs_of_each_face() {
+    let mut placed = 0;
+    for (name, bytes) in documents() {
+        let doc = Document::parse(&bytes).unwrap();
+        let faces = doc.faces().unwrap();
+        for (f, w) in faces.iter().zip(doc.faces_nurbs(&faces)) {
+            assert_eq!(w, doc.face_nurbs(f), "{name}: face {:?} occurrence {}", f.id, f.occurrence);
+            placed += usize::from(f.occurrence > 0);
+        }
+    }
+    assert!(placed > 20, "{placed} faces placed more than once");
+}

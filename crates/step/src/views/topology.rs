@@ -596,13 +596,32 @@ impl Document {
     /// [`face_nurbs`](Self::face_nurbs) of each of `faces`, in order. From 64 faces on
     /// they are converted on rayon's threads (each face's conversion only reads the
     /// document); this is how a model is loaded.
+    ///
+    /// A face placed several times (assembly occurrences, `MAPPED_ITEM`s) is converted
+    /// once and placed for each: its surface and parameter box do not depend on the
+    /// placement.
     pub fn faces_nurbs(&self, faces: &[Face]) -> Vec<Result<WorldSurface>> {
-        if faces.len() >= PARALLEL_FACES {
+        // The first face of each face entity, in order.
+        let mut first: HashMap<EntityId, usize> = HashMap::new();
+        let unique: Vec<usize> = (0..faces.len()).filter(|&i| *first.entry(faces[i].id).or_insert(i) == i).collect();
+        let local = |&i: &usize| self.face_local(&faces[i]);
+        let converted: Vec<Result<WorldSurface>> = if unique.len() >= PARALLEL_FACES {
             use rayon::prelude::*;
-            faces.par_iter().with_min_len(4).map(|f| self.face_nurbs(f)).collect()
+            unique.par_iter().with_min_len(4).map(local).collect()
         } else {
-            faces.iter().map(|f| self.face_nurbs(f)).collect()
-        }
+            unique.iter().map(local).collect()
+        };
+        let at: HashMap<usize, usize> = unique.iter().enumerate().map(|(k, &i)| (i, k)).collect();
+        faces
+            .iter()
+            .map(|f| {
+                let mut w = converted[at[&first[&f.id]]].clone()?;
+                if f.transform != Matrix4::identity() {
+                    w.surface.transform_by(&f.transform);
+                }
+                Ok(w)
+            })
+            .collect()
     }
 
     /// The face's surface as a world-coordinate NURBS in model units: B-spline surfaces
@@ -614,6 +633,16 @@ impl Document {
     /// The surface's own errors, [`Error::Geometry`] when the box is empty, and
     /// [`Error::UnexpectedEntity`] for surfaces this crate does not convert.
     pub fn face_nurbs(&self, face: &Face) -> Result<WorldSurface> {
+        let mut w = self.face_local(face)?;
+        if face.transform != Matrix4::identity() {
+            w.surface.transform_by(&face.transform);
+        }
+        Ok(w)
+    }
+
+    /// [`face_nurbs`](Self::face_nurbs) before the face's placement
+    /// ([`Face::transform`]) is applied.
+    fn face_local(&self, face: &Face) -> Result<WorldSurface> {
         let (ctx, _) = self.ctx()?;
         let g = ctx.surface(face.surface)?;
         let (u, v) = match &g {
@@ -626,11 +655,7 @@ impl Document {
         };
         let exact =
             g.to_nurbs(u, v).map_err(|e| Error::Geometry { at: self.position_of_id(face.surface), source: e })?;
-        let mut surface = exact.surface;
-        if face.transform != Matrix4::identity() {
-            surface.transform_by(&face.transform);
-        }
-        Ok(WorldSurface { surface, u_map: exact.u_map, v_map: exact.v_map, u_range: u, v_range: v })
+        Ok(WorldSurface { surface: exact.surface, u_map: exact.u_map, v_map: exact.v_map, u_range: u, v_range: v })
     }
 
     /// [`faces`](Self::faces) and [`face_nurbs`](Self::face_nurbs) of each, in order.
