@@ -113,7 +113,7 @@ impl Ctx<'_> {
                     Some(Value::String(s)) => crate::decode_string(s),
                     _ => String::new(),
                 };
-                let m = cb.params.get(1).and_then(|p| p.as_ref_id()).ok_or(bad("a measure with unit"))?;
+                let m = cb.params.get(1).and_then(|p| p.as_ref_id()).ok_or_else(|| bad("a measure with unit"))?;
                 let (value, unit) = self.measure_with_unit(m)?;
                 size = value
                     * match self.unit(unit)? {
