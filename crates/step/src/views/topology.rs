@@ -601,21 +601,38 @@ impl Document {
     /// once and placed for each: its surface and parameter box do not depend on the
     /// placement.
     pub fn faces_nurbs(&self, faces: &[Face]) -> Vec<Result<WorldSurface>> {
-        // The first face of each face entity, in order.
-        let mut first: HashMap<EntityId, usize> = HashMap::new();
-        let unique: Vec<usize> = (0..faces.len()).filter(|&i| *first.entry(faces[i].id).or_insert(i) == i).collect();
-        let local = |&i: &usize| self.face_local(&faces[i]);
-        let converted: Vec<Result<WorldSurface>> = if unique.len() >= PARALLEL_FACES {
+        // Each face entity's slot in `unique` (its first face), and how many faces use it.
+        let mut slot_of: HashMap<EntityId, usize> = HashMap::new();
+        let mut unique: Vec<usize> = Vec::new();
+        let slots: Vec<usize> = faces
+            .iter()
+            .enumerate()
+            .map(|(i, f)| {
+                *slot_of.entry(f.id).or_insert_with(|| {
+                    unique.push(i);
+                    unique.len() - 1
+                })
+            })
+            .collect();
+        let mut uses = vec![0usize; unique.len()];
+        for &s in &slots {
+            uses[s] += 1;
+        }
+        let local = |&i: &usize| Some(self.face_local(&faces[i]));
+        let mut converted: Vec<Option<Result<WorldSurface>>> = if unique.len() >= PARALLEL_FACES {
             use rayon::prelude::*;
             unique.par_iter().with_min_len(4).map(local).collect()
         } else {
             unique.iter().map(local).collect()
         };
-        let at: HashMap<usize, usize> = unique.iter().enumerate().map(|(k, &i)| (i, k)).collect();
         faces
             .iter()
-            .map(|f| {
-                let mut w = converted[at[&first[&f.id]]].clone()?;
+            .zip(slots)
+            .map(|(f, s)| {
+                // The last face of an entity takes its conversion, the others a copy.
+                uses[s] -= 1;
+                let mut w = if uses[s] == 0 { converted[s].take() } else { converted[s].clone() }
+                    .expect("each slot is taken by its last face only")?;
                 if f.transform != Matrix4::identity() {
                     w.surface.transform_by(&f.transform);
                 }
