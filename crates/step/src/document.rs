@@ -92,7 +92,8 @@ pub struct Document {
     /// The highest id in use.
     pub(crate) max_id: u64,
     /// The model units, once computed (cleared by edits).
-    pub(crate) units_cache: std::sync::OnceLock<crate::views::Units>,
+    /// With the id of the context instance they were read from (none for the defaults).
+    pub(crate) units_cache: std::sync::OnceLock<(crate::views::Units, Option<u64>)>,
     /// Added instances written even though nothing references them: roots of the
     /// product structure an edit added (see `unshare.rs`).
     pub(crate) pinned: std::collections::BTreeSet<usize>,

@@ -138,6 +138,13 @@ impl Ctx<'_> {
                 let scale = match r.param(2)?.as_ref_id() {
                     Some(c) => match context_scale.get(&c.0) {
                         Some(&s) => s,
+                        // The model units' own context (most files have only that one)
+                        // was read by `Document::units` already.
+                        None if doc.units_context() == Some(c.0)
+                            && doc.units().is_ok_and(|u| u.length.metres == model_metres) =>
+                        {
+                            1.0
+                        }
                         None => {
                             let s = self.context_units(c)?.0.map_or(1.0, |l| l.metres / model_metres);
                             context_scale.insert(c.0, s);

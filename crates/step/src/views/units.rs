@@ -217,15 +217,24 @@ impl Document {
     /// assert_eq!(units.uncertainty, Some(1e-7));
     /// ```
     pub fn units(&self) -> Result<Units> {
-        if let Some(u) = self.units_cache.get() {
+        if let Some((u, _)) = self.units_cache.get() {
             return Ok(u.clone());
         }
-        let u = self.find_units()?;
-        let _ = self.units_cache.set(u.clone());
+        let found = self.find_units()?;
+        let u = found.0.clone();
+        let _ = self.units_cache.set(found);
         Ok(u)
     }
 
-    fn find_units(&self) -> Result<Units> {
+    /// The id of the context instance [`units`](Self::units) read the model units from
+    /// (`None` for the defaults, or if they cannot be read).
+    pub(crate) fn units_context(&self) -> Option<u64> {
+        self.units().ok()?;
+        self.units_cache.get().and_then(|(_, id)| *id)
+    }
+
+    /// The model units and the context they come from.
+    fn find_units(&self) -> Result<(Units, Option<u64>)> {
         let ctx = Ctx::new(self, 1.0);
         for k in 0..self.instances.len() {
             if !self.instances[k].complex {
@@ -238,10 +247,10 @@ impl Document {
             }
             let (length, angle, uncertainty) = ctx.context_units(EntityId(self.instances[k].id))?;
             if let Some(length) = length {
-                return Ok(Units { length, plane_angle: angle, uncertainty });
+                return Ok((Units { length, plane_angle: angle, uncertainty }, Some(self.instances[k].id)));
             }
         }
-        Ok(Units::default())
+        Ok((Units::default(), None))
     }
 }
 
