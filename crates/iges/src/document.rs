@@ -8,6 +8,7 @@ use std::sync::{Arc, OnceLock};
 use crate::error::{Error, Position, Result};
 use crate::global::Global;
 use crate::read::lexer::Raw;
+use crate::read::tokens::Tokens;
 
 /// The DE sequence number of an entity (odd, 1-based: the first entity is DE 1, the
 /// second DE 3). Pointers in IGES are these numbers.
@@ -143,7 +144,7 @@ pub struct Entity {
     /// The record text: columns 1–64 of its parameter lines, concatenated.
     pub(crate) text: RecordText,
     /// Parameters, the entity type first.
-    pub(crate) tokens: Vec<Raw>,
+    pub(crate) tokens: Tokens,
     /// Whether a parameter is a string (else slices of numbers need no check for one).
     pub(crate) strings: bool,
     /// The file's delimiters (to recompute token offsets for error positions).
@@ -187,11 +188,11 @@ impl Entity {
     }
     /// Parameter `i` (0 is the entity type).
     pub fn param(&self, i: usize) -> Option<Param<'_>> {
-        self.tokens.get(i).map(|t| self.resolve(*t))
+        self.tokens.get(i).map(|t| self.resolve(t))
     }
     /// All parameters, the entity type first.
     pub fn params(&self) -> impl Iterator<Item = Param<'_>> + '_ {
-        self.tokens.iter().map(|t| self.resolve(*t))
+        self.tokens.iter().map(|t| self.resolve(t))
     }
     /// All parameters as owned values.
     pub fn values(&self) -> Vec<Value> {

@@ -8,6 +8,7 @@ use crate::document::{Document, EntityId, Value};
 use crate::entity::View;
 use crate::error::{Error, Result};
 use crate::read::lexer::{tokenize, Raw};
+use crate::read::tokens::Tokens;
 use crate::read::P_WIDTH;
 use crate::write::layout_record;
 
@@ -135,9 +136,9 @@ impl Document {
             text.extend_from_slice(l);
             text.resize(text.len() + P_WIDTH - l.len(), b' ');
         }
-        let mut tokens: Vec<Raw> = Vec::with_capacity(values.len());
+        let mut tokens = Tokens::with_capacity(values.len());
         tokenize(&text, 0, pd, rd, &mut tokens).map_err(|e| edit_err(id, format!("unreadable record: {e:?}")))?;
-        debug_assert_eq!(tokens.first().copied(), Some(Raw::Integer(i64::from(ty))));
+        debug_assert_eq!(tokens.first(), Some(Raw::Integer(i64::from(ty))));
         let e = &mut self.entities[k];
         if ty != e.directory.entity_type || form_changes {
             e.directory.entity_type = ty;
@@ -147,7 +148,7 @@ impl Document {
             e.directory_changed = true;
         }
         e.text = crate::document::RecordText::owned(text);
-        e.strings = tokens.iter().any(|t| matches!(t, Raw::Text { .. }));
+        e.strings = tokens.has_text();
         e.tokens = tokens;
         e.new_lines = Some(lines);
         e.p_line = 0;

@@ -5,7 +5,6 @@ use nalgebra::{Matrix4, Point3, Vector3};
 use super::Cursor;
 use crate::document::EntityId;
 use crate::error::Result;
-use crate::read::lexer::Raw;
 
 /// 100 circular arc, in the plane `z = z_t` of its definition space, counter-clockwise
 /// from `start` to `end` about `center`.
@@ -494,11 +493,6 @@ impl BSplineSurface {
             c.real_or("V0", v_knots[v_degree])?,
             c.real_or("V1", v_knots[n_v])?,
         ];
-        let real = |r: &Raw| match *r {
-            Raw::Real(x) => x,
-            Raw::Integer(i) => i as f64,
-            _ => 0.0,
-        };
         // File order: u index fastest. Cadmorph order: i * n_v + j. The transpose goes by
         // tiles of TILE × TILE poles, so that both the tokens read and the poles written
         // stay within a few cache lines and pages per tile (a whole row or column at a
@@ -511,9 +505,8 @@ impl BSplineSurface {
                 for j in j0..(j0 + TILE).min(n_v) {
                     for i in i0..(i0 + TILE).min(n_u) {
                         let f = j * n_u + i;
-                        let p = &xyz[3 * f..3 * f + 3];
-                        points[i * n_v + j] = Point3::new(real(&p[0]), real(&p[1]), real(&p[2]));
-                        w[i * n_v + j] = real(&wf[f]);
+                        points[i * n_v + j] = Point3::new(xyz.get(3 * f), xyz.get(3 * f + 1), xyz.get(3 * f + 2));
+                        w[i * n_v + j] = wf.get(f);
                     }
                 }
             }

@@ -14,7 +14,7 @@ use nalgebra::{Point3, Vector3};
 
 use crate::document::{Document, Entity, EntityId, Param};
 use crate::error::{Error, Result};
-use crate::read::lexer::Raw;
+use crate::read::tokens::Reals;
 
 /// Entity types with a typed view.
 pub const KNOWN_TYPES: [u32; 37] = [
@@ -171,34 +171,25 @@ impl<'a> Cursor<'a> {
     /// `n` reals appended to `out` (a tight loop over the tokens: the bulk of 126/128
     /// records).
     pub(crate) fn reals_into(&mut self, what: &'static str, n: usize, out: &mut Vec<f64>) -> Result<()> {
-        self.need(what, n, 1)?;
-        let toks = &self.e.tokens[self.i..self.i + n];
+        let reals = self.real_tokens(what, n)?;
         out.reserve(n);
-        for (k, t) in toks.iter().enumerate() {
-            out.push(match *t {
-                Raw::Real(x) => x,
-                Raw::Integer(i) => i as f64,
-                Raw::Default => 0.0,
-                Raw::Text { .. } => return Err(self.err(self.i + k, what, "a real")),
-            });
-        }
-        self.i += n;
+        out.extend((0..n).map(|k| reals.get(k)));
         Ok(())
     }
 
-    /// The `n` reals ahead as a slice of tokens (checked to be numbers or defaults), then
+    /// The `n` reals ahead (checked to be numbers or defaults, which read as 0), then
     /// skipped: for callers that place them themselves.
-    pub(crate) fn real_tokens(&mut self, what: &'static str, n: usize) -> Result<&'a [Raw]> {
+    pub(crate) fn real_tokens(&mut self, what: &'static str, n: usize) -> Result<Reals<'a>> {
         self.need(what, n, 1)?;
-        let toks = &self.e.tokens[self.i..self.i + n];
+        let range = self.i..self.i + n;
         // Records without strings (the bulk of a file) need no look.
         if self.e.strings {
-            if let Some(k) = toks.iter().position(|t| matches!(t, Raw::Text { .. })) {
-                return Err(self.err(self.i + k, what, "a real"));
+            if let Some(k) = self.e.tokens.text_in(range.clone()) {
+                return Err(self.err(k, what, "a real"));
             }
         }
         self.i += n;
-        Ok(toks)
+        Ok(self.e.tokens.reals(range))
     }
 
     /// `n` pointers.

@@ -9,6 +9,7 @@ use nom::character::complete::{char, digit0, digit1, one_of};
 use nom::combinator::opt;
 use nom::{IResult, Parser};
 
+use super::tokens::Tokens;
 use crate::document::Line;
 
 /// One parameter value as stored: strings as byte ranges into the record text.
@@ -385,7 +386,7 @@ impl RecordLines<'_> {
 /// A sink that moves string offsets from a window to the whole record, and notes
 /// whether there were any.
 struct Shifted<'a> {
-    out: &'a mut Vec<Raw>,
+    out: &'a mut Tokens,
     base: usize,
     strings: &'a mut bool,
 }
@@ -417,7 +418,7 @@ fn tokenize_window(
     pd: u8,
     rd: u8,
     buf: &mut Vec<u8>,
-    out: &mut Vec<Raw>,
+    out: &mut Tokens,
     strings: &mut bool,
 ) -> Option<Stop> {
     let (n, w) = (rec.lines.len(), rec.width);
@@ -451,7 +452,10 @@ fn tokenize_window(
 /// one piece, so the result is always the sequential one. With one thread the record is
 /// read in one piece (the copy of the chunks' tokens would buy nothing).
 pub(crate) fn tokenize_record(rec: &RecordLines, pd: u8, rd: u8) -> Result<Record, LexError> {
-    let chunk = if rayon::current_num_threads() > 1 { CHUNK } else { usize::MAX };
+    // One chunk per thread at most (each chunk after the first is copied into the first's
+    // vector), and none under CHUNK.
+    let threads = rayon::current_num_threads();
+    let chunk = if threads > 1 { CHUNK.max(rec.lines.len() * rec.width / threads) } else { usize::MAX };
     chunked(rec, pd, rd, chunk).map(|(r, _)| r)
 }
 
@@ -464,7 +468,7 @@ pub(crate) fn tokenize_record_one_thread(rec: &RecordLines, pd: u8, rd: u8) -> R
 
 /// A record as read.
 pub(crate) struct Record {
-    pub tokens: Vec<Raw>,
+    pub tokens: Tokens,
     /// Its text, if it had to be built.
     pub text: Option<Vec<u8>>,
     /// Whether a parameter is a string.
@@ -474,15 +478,15 @@ pub(crate) struct Record {
 /// [`tokenize_record`], and whether the parallel cut was used.
 fn chunked(rec: &RecordLines, pd: u8, rd: u8, chunk: usize) -> Result<(Record, bool), LexError> {
     let (n_lines, w) = (rec.lines.len(), rec.width);
-    let whole = |out: &mut Vec<Raw>| -> Result<(Record, bool), LexError> {
+    let whole = |capacity: usize| -> Result<(Record, bool), LexError> {
         let text = rec.text();
-        out.clear();
-        tokenize(&text, 0, pd, rd, out)?;
-        let strings = out.iter().any(|t| matches!(t, Raw::Text { .. }));
-        Ok((Record { tokens: std::mem::take(out), text: Some(text), strings }, false))
+        let mut out = Tokens::with_capacity(capacity);
+        tokenize(&text, 0, pd, rd, &mut out)?;
+        let strings = out.has_text();
+        Ok((Record { tokens: out, text: Some(text), strings }, false))
     };
     if n_lines <= WINDOW {
-        return whole(&mut Vec::with_capacity(n_lines * w / 8 + 16));
+        return whole(n_lines * w / 8 + 16);
     }
     let len = n_lines * w;
     let n = len / chunk;
@@ -490,13 +494,13 @@ fn chunked(rec: &RecordLines, pd: u8, rd: u8, chunk: usize) -> Result<(Record, b
     if n >= 2 && fast {
         let cuts: Vec<usize> = (0..=n).map(|k| if k == n { n_lines } else { k * chunk / w }).collect();
         use rayon::prelude::*;
-        let parts: Vec<Option<(Vec<Raw>, Stop, bool)>> = (0..n)
+        let parts: Vec<Option<(Tokens, Stop, bool)>> = (0..n)
             .into_par_iter()
             .map(|k| {
                 // The first chunk's vector receives the others' tokens (only they are
                 // copied), so it is sized for the whole record.
                 let lines = if k == 0 { n_lines } else { cuts[k + 1] - cuts[k] };
-                let mut out: Vec<Raw> = Vec::with_capacity(lines * w / 8 + 16);
+                let mut out = Tokens::with_capacity(lines * w / 8 + 16);
                 let mut buf = Vec::with_capacity(WINDOW * w);
                 let stop = if k + 1 == n { usize::MAX } else { cuts[k + 1] * w };
                 let mut strings = false;
@@ -505,7 +509,7 @@ fn chunked(rec: &RecordLines, pd: u8, rd: u8, chunk: usize) -> Result<(Record, b
             })
             .collect();
         let total: usize = parts.iter().flatten().map(|p| p.0.len()).sum();
-        let mut tokens = Vec::new();
+        let mut tokens = Tokens::default();
         let mut strings = false;
         let mut ok = true;
         for (k, part) in parts.into_iter().enumerate() {
@@ -527,20 +531,20 @@ fn chunked(rec: &RecordLines, pd: u8, rd: u8, chunk: usize) -> Result<(Record, b
                 tokens = toks;
                 tokens.reserve(total - tokens.len());
             } else {
-                tokens.extend(toks);
+                tokens.append(&toks);
             }
         }
         if ok {
             return Ok((Record { tokens, text: None, strings }, true));
         }
     }
-    let mut out: Vec<Raw> = Vec::with_capacity(len / 8 + 16);
+    let mut out = Tokens::with_capacity(len / 8 + 16);
     let mut buf = Vec::with_capacity(WINDOW * w);
     let mut strings = false;
     if let Some(Stop::End(_)) = tokenize_window(rec, 0, usize::MAX, pd, rd, &mut buf, &mut out, &mut strings) {
         return Ok((Record { tokens: out, text: None, strings }, false));
     }
-    whole(&mut out)
+    whole(len / 8 + 16)
 }
 
 /// [`tokenize`], stopping at the first parameter that starts at or after `stop`.
@@ -755,11 +759,11 @@ mod tests {
             let lines = RecordLines { bytes: rec.as_bytes(), lines: &lines, width: 64 };
             let has_strings = seq.iter().any(|t| matches!(t, Raw::Text { .. }));
             let (par, parallel) = chunked(&lines, b',', b';', TEST_CHUNK).unwrap();
-            proptest::prop_assert!(seq == par.tokens);
+            proptest::prop_assert!(seq == par.tokens.iter().collect::<Vec<Raw>>());
             proptest::prop_assert_eq!(par.strings, has_strings);
             // Through windows on one thread: the same tokens.
             let (windowed, _) = chunked(&lines, b',', b';', usize::MAX).unwrap();
-            proptest::prop_assert!(seq == windowed.tokens);
+            proptest::prop_assert!(seq == windowed.tokens.iter().collect::<Vec<Raw>>());
             proptest::prop_assert_eq!(windowed.strings, has_strings);
             if strings == 0 {
                 // Without strings every cut falls on a line start before a parameter.

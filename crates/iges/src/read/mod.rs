@@ -1,6 +1,7 @@
 //! Reading: lines and sections, the Global section, directory entries, parameter records.
 
 pub(crate) mod lexer;
+pub(crate) mod tokens;
 
 use std::sync::Arc;
 
@@ -529,7 +530,7 @@ pub(crate) fn parse(source: Vec<u8>) -> Result<Document> {
         let map = |off: usize| pos('P', p_line + off / P_WIDTH, off % P_WIDTH + 1, Some(id.0));
         let lexer::Record { tokens, text, strings } =
             lexer::tokenize_record(&rec, pd, rd).map_err(|e| lex_position(&e, &map))?;
-        if tokens.first().copied() != Some(Raw::Integer(i64::from(dir.entity_type))) {
+        if tokens.first() != Some(Raw::Integer(i64::from(dir.entity_type))) {
             return Err(Error::Mismatch {
                 at: map(0),
                 expected: format!("entity type {} first", dir.entity_type),
