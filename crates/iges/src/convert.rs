@@ -1195,8 +1195,8 @@ impl Document {
 
     /// [`face_surface`](Self::face_surface) of each of `faces`, in order. On rayon's
     /// threads when there is enough to share (each conversion only reads the document):
-    /// [`PARALLEL_FACES`] faces or more, or surfaces of [`PARALLEL_LINES`] parameter lines
-    /// or more in all (a few large B-spline patches, whose reading and transposing
+    /// 64 faces or more, or surfaces of 4 096 parameter lines (256 KiB of text) or more
+    /// in all (a few large B-spline patches, whose reading and transposing
     /// outweigh a thread's start by far); this is how a model is loaded.
     pub fn face_surfaces(&self, faces: &[FaceRef]) -> Vec<Result<ExactSurface>> {
         let lines: usize = faces.iter().filter_map(|f| self.entity(f.surface).ok()).map(|e| e.p_count).sum();

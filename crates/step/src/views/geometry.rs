@@ -474,10 +474,10 @@ impl<'a> Ctx<'a> {
         NurbsSurface::try_new(net.degrees, net.knots, net.counts, points, net.weights).map_err(|e| head.geometry(e))
     }
 
-    /// What [`Document::faces`] lists of a B-spline surface (instance position `k`):
-    /// read from its own record (degrees, knot vectors, weights, the net of references)
-    /// and checked as [`bspline_surface`](Self::bspline_surface) checks it, each
-    /// reference checked to name a `CARTESIAN_POINT` instance, but the points'
+    /// What [`Document::faces`](crate::Document::faces) lists of a B-spline surface
+    /// (instance position `k`): read from its own record (degrees, knot vectors, weights,
+    /// the net of references) and checked as [`bspline_surface`](Self::bspline_surface)
+    /// checks it, each reference checked to name a `CARTESIAN_POINT` instance, but the points'
     /// coordinates not read (that is the bulk of a large surface's reading, done again
     /// when the face is converted).
     pub fn bspline_surface_kind(&self, k: usize, body: Body<'_>) -> Result<SurfaceKind> {
