@@ -65,7 +65,7 @@ fn split_lines(src: &[u8]) -> Split {
             lines.push(Line { start: s, end: e, next: e });
             s = e;
         }
-        return Split { unchecked: (0..lines.len()).collect(), lines };
+        return Split { unchecked: unchecked_lines(src, &lines), lines };
     }
     let mut s = 0;
     let mut i = 0;
@@ -87,7 +87,29 @@ fn split_lines(src: &[u8]) -> Split {
     if s < src.len() {
         lines.push(Line { start: s, end: src.len(), next: src.len() });
     }
-    Split { unchecked: (0..lines.len()).collect(), lines }
+    Split { unchecked: unchecked_lines(src, &lines), lines }
+}
+
+/// [`Split::unchecked`] of lines found by other means than [`split_lf`].
+fn unchecked_lines(src: &[u8], lines: &[Line]) -> Vec<usize> {
+    let mut before = None;
+    (0..lines.len()).filter(|&k| !continues(&mut before, &src[lines[k].start..lines[k].end])).collect()
+}
+
+/// Whether line `text` continues the line before it as [`Split::unchecked`] says (an
+/// 80-column line with the letter of the line before, other than T, numbered one after
+/// it). `before` holds the line before's letter and number, if it had both, and is set
+/// to this line's.
+fn continues(before: &mut Option<(u8, usize)>, text: &[u8]) -> bool {
+    let Some(&tail) = text.get(72..80).and_then(|t| t.first_chunk::<8>()).filter(|_| text.len() == 80) else {
+        *before = None;
+        return false;
+    };
+    let seq = seven_digits(tail);
+    let follows =
+        matches!((*before, seq), (Some((letter, n)), Some(m)) if letter == tail[0] && letter != b'T' && m == n + 1);
+    *before = seq.map(|m| (tail[0], m));
+    follows
 }
 
 /// The LF-terminated lines of `src[from..to]` (`from` at a line's start, `to` after a
@@ -100,19 +122,14 @@ fn split_lf(src: &[u8], from: usize, to: usize) -> Option<Split> {
     let src = &src[..to];
     let mut lines = Vec::with_capacity((to - from) / 81 + 1);
     let mut unchecked = Vec::new();
-    // Section letter and sequence number of the line before, if it was an 80-column one.
-    let mut before: Option<(u8, usize)> = None;
+    let mut before = None;
     let mut s = from;
     while s < src.len() {
         if let Some(line) = src.get(s..s + 81).and_then(|l| l.first_chunk::<81>()) {
             if line[80] == b'\n' && !has_line_end(line) {
-                let tail = [line[72], line[73], line[74], line[75], line[76], line[77], line[78], line[79]];
-                let seq = seven_digits(tail);
-                let continues = matches!((before, seq), (Some((letter, n)), Some(m)) if letter == tail[0] && letter != b'T' && m == n + 1);
-                if !continues {
+                if !continues(&mut before, &line[..80]) {
                     unchecked.push(lines.len());
                 }
-                before = seq.map(|m| (tail[0], m));
                 lines.push(Line { start: s, end: s + 80, next: s + 81 });
                 s += 81;
                 continue;
@@ -122,8 +139,9 @@ fn split_lf(src: &[u8], from: usize, to: usize) -> Option<Split> {
         if memchr::memchr(b'\r', &src[s..s + k]).is_some() {
             return None;
         }
-        unchecked.push(lines.len());
-        before = None;
+        if !continues(&mut before, &src[s..s + k]) {
+            unchecked.push(lines.len());
+        }
         lines.push(Line { start: s, end: s + k, next: (s + k + 1).min(src.len()) });
         s += k + 1;
     }
@@ -196,19 +214,6 @@ fn sections(src: &[u8], lines: &[Line], unchecked: &[usize]) -> Result<Layout> {
         done = k + 1;
         let Some(l) = lines.get(k) else { break };
         let text = &src[l.start..l.end];
-        // The bulk of a file: an 80-column line of the section the line before was in,
-        // numbered (zero-padded or not) one after it. Anything else, and every error,
-        // goes through the general steps below.
-        if let Some(&tail) = text.get(72..80).and_then(|t| t.first_chunk::<8>()) {
-            if text.len() == 80 && first[current] != usize::MAX && tail[0] == ORDER[current] && current != 4 {
-                if let Some(n) = seven_digits(tail) {
-                    if n == k - first[current] + 1 {
-                        last[current] = k + 1;
-                        continue;
-                    }
-                }
-            }
-        }
         if terminate.is_some() {
             if is_blank_line(text) {
                 continue;
