@@ -213,8 +213,8 @@ thread_local! {
     static TOKENS_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
-/// Whether [`Reader::params`] may read a reference or number without tokens (always,
-/// but in the tests that compare it with the token reading).
+/// Whether [`Reader::params`] may read parameters, commas and parentheses without
+/// tokens (always, but in the tests that compare it with the token reading).
 fn fast_forms() -> bool {
     #[cfg(test)]
     return !TOKENS_ONLY.with(std::cell::Cell::get);
@@ -679,8 +679,8 @@ mod tests {
     }
 
     proptest::proptest! {
-        /// A reference or number read without tokens (directly followed by `,` or `)`)
-        /// gives what the token reading gives: the same references at the same offsets,
+        /// Parameters, commas and parentheses read without tokens (where nothing stands
+        /// between them) give what the token reading gives: the same references at the same offsets,
         /// the same instance, or the same error at the same place. Well-formed lists,
         /// and the same with a stray piece put somewhere.
         #[test]

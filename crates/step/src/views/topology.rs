@@ -113,6 +113,11 @@ impl Ctx<'_> {
         let mut reps = Vec::new(); // (id, scale)
         let mut rep_scale: HashMap<u64, f64> = HashMap::new();
         let mut context_scale: HashMap<u64, f64> = HashMap::new();
+        // The model units' own context (most files have only that one) was read by
+        // `Document::units` already.
+        if let Some((c, metres)) = doc.units_context() {
+            context_scale.insert(c, metres / model_metres);
+        }
         let mut children: Children = HashMap::new();
         let mut is_child: HashMap<u64, bool> = HashMap::new();
         // Pairs joined by relationships without a transformation.
@@ -138,13 +143,6 @@ impl Ctx<'_> {
                 let scale = match r.param(2)?.as_ref_id() {
                     Some(c) => match context_scale.get(&c.0) {
                         Some(&s) => s,
-                        // The model units' own context (most files have only that one)
-                        // was read by `Document::units` already.
-                        None if doc.units_context() == Some(c.0)
-                            && doc.units().is_ok_and(|u| u.length.metres == model_metres) =>
-                        {
-                            1.0
-                        }
                         None => {
                             let s = self.context_units(c)?.0.map_or(1.0, |l| l.metres / model_metres);
                             context_scale.insert(c.0, s);

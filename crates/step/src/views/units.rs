@@ -226,11 +226,11 @@ impl Document {
         Ok(u)
     }
 
-    /// The id of the context instance [`units`](Self::units) read the model units from
-    /// (`None` for the defaults, or if they cannot be read).
-    pub(crate) fn units_context(&self) -> Option<u64> {
+    /// The context instance [`units`](Self::units) read the model units from, with its
+    /// length unit in metres (`None` for the defaults, or if they cannot be read).
+    pub(crate) fn units_context(&self) -> Option<(u64, f64)> {
         self.units().ok()?;
-        self.units_cache.get().and_then(|(_, id)| *id)
+        self.units_cache.get().and_then(|(u, id)| id.map(|id| (id, u.length.metres)))
     }
 
     /// The model units and the context they come from.
