@@ -277,6 +277,16 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
     if let Some(r) = &exact_report {
+        if r.map_degrees != r.lattice_degrees {
+            let [l0, m0, n0] = r.lattice_degrees;
+            let [l1, m1, n1] = r.map_degrees;
+            println!(
+                "exact FFD: the lattice's degrees {l0} x {m0} x {n0} lowered to the map's own {l1} x {m1} x {n1} (bound \
+                 {:.3e} {})",
+                r.lowering_bound,
+                m.unit()
+            );
+        }
         println!(
             "exact FFD: {} faces exact ({} control points composed, {} after knot removal, bound {:.3e} {}), {} \
              curves exact, {} faces crossing the box morphed by their control points",

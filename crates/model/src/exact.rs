@@ -19,6 +19,11 @@ use crate::{Error, Result};
 /// (the FFD's own face tolerance, `cadmorph_morph::ffd::FACE_TOL`).
 const INSIDE_TOL: f64 = cadmorph_morph::ffd::FACE_TOL;
 
+/// How far, in units of the largest lattice node coordinate's ulp, lowering the
+/// lattice's degrees ([`BezierVolume::lowered`]) may move the map: rounding only, so the
+/// exact image stays exact.
+const LOWERING_ULPS: f64 = 256.0;
+
 /// An FFD as an exact map of NURBS: the Bézier volume `V` with `V(ψ(x)) = φ(x)` in the
 /// box (paper eq. (1)–(2)), and the tolerance of the knot removal that follows each
 /// composition.
@@ -37,6 +42,8 @@ const INSIDE_TOL: f64 = cadmorph_morph::ffd::FACE_TOL;
 #[derive(Debug, Clone)]
 pub struct ExactFfd {
     volume: BezierVolume,
+    lattice_degrees: [usize; 3],
+    lowering_bound: f64,
     moves: bool,
     removal_tol: f64,
 }
@@ -51,6 +58,14 @@ pub struct ExactReport {
     pub other_faces: usize,
     /// Bound curves replaced by their exact image.
     pub exact_curves: usize,
+    /// The lattice's degrees per direction (nodes minus one).
+    pub lattice_degrees: [usize; 3],
+    /// The degrees of the polynomial map the composition used: the lattice's, lowered
+    /// where the displacements make a lower-degree polynomial (to rounding,
+    /// [`BezierVolume::lowered`]).
+    pub map_degrees: [usize; 3],
+    /// The bound on how far lowering the degrees moved the map (model units; rounding).
+    pub lowering_bound: f64,
     /// Control points of the exact faces as composed, before knot removal.
     pub composed_control_points: usize,
     /// Control points of the exact faces as written.
@@ -74,14 +89,20 @@ impl ExactFfd {
         let [l, m, n] = ffd.n_control_points();
         let len = ffd.box_length();
         let to_unit = Matrix3::from_diagonal(&len.map(|x| 1.0 / x)) * ffd.rotation().transpose();
-        let volume = BezierVolume::try_new([l - 1, m - 1, n - 1], ffd.control_points(true), ffd.box_origin(), to_unit)
+        let nodes = ffd.control_points(true);
+        let scale = nodes.iter().flat_map(|p| p.iter()).fold(0.0f64, |a, &c| a.max(c.abs()));
+        let lattice_degrees = [l - 1, m - 1, n - 1];
+        let full = BezierVolume::try_new(lattice_degrees, nodes, ffd.box_origin(), to_unit)
             .map_err(|source| Error::Exact { what: "the lattice".into(), source })?;
+        let (volume, lowering_bound) = full.lowered(LOWERING_ULPS * f64::EPSILON * scale);
         let mu = ffd.mu();
         let moves = mu.x.iter().chain(&mu.y).chain(&mu.z).any(|&v| v != 0.0);
-        Ok(Self { volume, moves, removal_tol })
+        Ok(Self { volume, lattice_degrees, lowering_bound, moves, removal_tol })
     }
 
-    /// `l + m + n`: the factor a patch's degrees are multiplied by.
+    /// `l + m + n` of the map's degrees (the lattice's, lowered where the displacements
+    /// allow; see [`BezierVolume::lowered`]): the factor a patch's degrees are
+    /// multiplied by.
     pub fn degree_factor(&self) -> usize {
         self.volume.degree_factor()
     }
@@ -190,7 +211,12 @@ impl<D: CadDocument> Model<D> {
                 return Err(Error::Exact { what: format!("curve {}", b.label), source });
             }
         }
-        let mut report = ExactReport::default();
+        let mut report = ExactReport {
+            lattice_degrees: exact.lattice_degrees,
+            map_degrees: exact.volume.degrees(),
+            lowering_bound: exact.lowering_bound,
+            ..ExactReport::default()
+        };
         let outcome = self.morph_impl(ffd, opts, progress, Some((exact, &inside, &mut report)))?;
         report.exact_faces = inside.iter().filter(|&&i| i).count();
         report.other_faces = inside.len() - report.exact_faces;

@@ -119,10 +119,130 @@ impl BezierVolume {
         self.degrees
     }
 
+    /// The control points `Qᵢⱼₖ` in C order (`(i·(m+1) + j)·(n+1) + k`).
+    pub fn control_points(&self) -> Vec<Point3<f64>> {
+        self.nodes.iter().map(|h| Point3::from(h.xyz())).collect()
+    }
+
+    /// The origin `o` of the placement `t = M (x − o)`.
+    pub fn origin(&self) -> Point3<f64> {
+        self.origin
+    }
+
+    /// The matrix `M` of the placement `t = M (x − o)`.
+    pub fn to_unit(&self) -> &Matrix3<f64> {
+        &self.to_unit
+    }
+
     /// `l + m + n`: a curve or surface of degree `p` composed with the volume has degree
     /// `p · (l + m + n)` (module docs).
     pub fn degree_factor(&self) -> usize {
         self.degrees.iter().sum()
+    }
+
+    /// The same map at the lowest degree per direction that it has within `tol` (model
+    /// units), and a bound on how far the new map is from this one anywhere in the box.
+    ///
+    /// An FFD's lattice is the identity (degree 1 in every direction) plus the
+    /// displacements μ, and the polynomial those make often has a lower degree than the
+    /// lattice: nodes moved alike, as in a dome that raises the inner nodes of a
+    /// direction by one value, make the Bernstein coefficients `(0, a, a, 0)`, which
+    /// are the degree elevation (Piegl & Tiller eq. (5.36)) of the quadratic
+    /// `(0, 3a/2, 0)`. A composed face's degree is `p·(l+m+n)` with the degrees found
+    /// here, so lowering them is what keeps such a lattice under degree 25.
+    ///
+    /// Each step lowers one direction by one: every line of nodes along it is reduced
+    /// as a Bézier curve (the Bézier step of Piegl & Tiller A5.11) and elevated back, and
+    /// the largest node difference is the step's error. The Bernstein basis is a
+    /// partition of unity, so a node difference of ε moves the map by at most ε; the
+    /// steps' errors add up to the returned bound, and a step is taken only while the
+    /// sum stays within `tol`. `tol = 0` lowers only where the reduction is exact in
+    /// floating point.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use cadmorph_nurbs::BezierVolume;
+    /// use cadmorph_nurbs::math::{Matrix3, Point3};
+    /// // A 4 x 4 x 2 lattice of the unit cube whose four inner nodes (in x and y) rise
+    /// // by 0.1: quadratic in x and y, linear in z.
+    /// let mut q = Vec::new();
+    /// for i in 0..4 { for j in 0..4 { for k in 0..2 {
+    ///     let lift = if (1..3).contains(&i) && (1..3).contains(&j) { 0.1 } else { 0.0 };
+    ///     q.push(Point3::new(i as f64 / 3.0, j as f64 / 3.0, k as f64 + lift));
+    /// } } }
+    /// let v = BezierVolume::try_new([3, 3, 1], q, Point3::origin(), Matrix3::identity())?;
+    /// let (low, bound) = v.lowered(1e-14);
+    /// assert_eq!(low.degrees(), [2, 2, 1]);
+    /// assert!(bound <= 1e-14);
+    /// let x = Point3::new(0.3, 0.6, 0.2);
+    /// assert!((low.eval(&x) - v.eval(&x)).norm() <= 1e-14);
+    /// # Ok::<(), cadmorph_nurbs::Error>(())
+    /// ```
+    pub fn lowered(&self, tol: f64) -> (BezierVolume, f64) {
+        let mut out = self.clone();
+        let mut bound = 0.0;
+        for axis in 0..3 {
+            while out.degrees[axis] > 1 {
+                let (next, err) = out.lowered_once(axis);
+                if !(bound + err <= tol) {
+                    break;
+                }
+                bound += err;
+                out = next;
+            }
+        }
+        (out, bound)
+    }
+
+    /// One degree less along `axis`, with the largest node difference between this net
+    /// and the new one elevated back (see [`lowered`](Self::lowered)).
+    fn lowered_once(&self, axis: usize) -> (BezierVolume, f64) {
+        let dims = self.degrees.map(|d| d + 1);
+        let index = |c: [usize; 3]| (c[0] * dims[1] + c[1]) * dims[2] + c[2];
+        let mut new_dims = dims;
+        new_dims[axis] -= 1;
+        let new_index = |c: [usize; 3]| (c[0] * new_dims[1] + c[1]) * new_dims[2] + c[2];
+        let (a, b) = match axis {
+            0 => (1, 2),
+            1 => (0, 2),
+            _ => (0, 1),
+        };
+        let d = self.degrees[axis];
+        let mut nodes = vec![Hom::zeros(); new_dims.iter().product()];
+        let mut err = 0.0f64;
+        for s in 0..dims[a] {
+            for t in 0..dims[b] {
+                let at = |i: usize| {
+                    let mut c = [0; 3];
+                    c[axis] = i;
+                    c[a] = s;
+                    c[b] = t;
+                    c
+                };
+                let line: Vec<Hom> = (0..=d).map(|i| self.nodes[index(at(i))]).collect();
+                let reduced = crate::reduce::bezier_reduce(&line);
+                // Elevate back (eq. (5.36)) and compare.
+                for (i, q) in line.iter().enumerate() {
+                    let alpha = i as f64 / d as f64;
+                    let back = if i == 0 {
+                        reduced[0]
+                    } else if i == d {
+                        reduced[d - 1]
+                    } else {
+                        reduced[i - 1] * alpha + reduced[i] * (1.0 - alpha)
+                    };
+                    err = err.max((back.xyz() - q.xyz()).norm());
+                }
+                for (i, r) in reduced.into_iter().enumerate() {
+                    nodes[new_index(at(i))] = r;
+                }
+            }
+        }
+        let mut degrees = self.degrees;
+        degrees[axis] -= 1;
+        let err = if err.is_nan() { f64::INFINITY } else { err };
+        (BezierVolume { degrees, nodes, origin: self.origin, to_unit: self.to_unit }, err)
     }
 
     /// The unit-cube coordinates `ψ(x)` of a model point.

@@ -30,7 +30,7 @@ pub struct KnotRemoval {
 /// (Piegl & Tiller §5.6, the Bézier step of A5.11): the reduced points are found from both ends by
 /// inverting degree elevation `Qᵢ = αᵢ Rᵢ₋₁ + (1 − αᵢ) Rᵢ`, `αᵢ = i/p`, and for odd `p`
 /// the two estimates of the middle point are averaged.
-fn bezier_reduce(q: &[Hom]) -> Vec<Hom> {
+pub(crate) fn bezier_reduce(q: &[Hom]) -> Vec<Hom> {
     let p = q.len() - 1;
     let alpha = |i: usize| i as f64 / p as f64;
     let mut r = vec![Hom::zeros(); p];

@@ -221,3 +221,66 @@ fn knot_removal_recovers_the_continuity_of_the_composition() {
     assert_eq!(n.remove_knots_within(f64::NAN).removed, 0);
     assert_eq!(n, r);
 }
+
+/// `nodes` (C order, `dims` per direction) elevated by one degree along `axis` with the
+/// elevation formula `Qᵢ = (i/(d+1)) Pᵢ₋₁ + (1 − i/(d+1)) Pᵢ` (Piegl & Tiller eq. (5.36)).
+fn elevate_nodes(dims: [usize; 3], nodes: &[Point3<f64>], axis: usize) -> ([usize; 3], Vec<Point3<f64>>) {
+    let mut out_dims = dims;
+    out_dims[axis] += 1;
+    let at = |d: [usize; 3], c: [usize; 3]| (c[0] * d[1] + c[1]) * d[2] + c[2];
+    let mut out = vec![Point3::origin(); out_dims.iter().product()];
+    let d1 = dims[axis] as f64; // the new degree
+    for i in 0..out_dims[0] {
+        for j in 0..out_dims[1] {
+            for k in 0..out_dims[2] {
+                let c = [i, j, k];
+                let r = c[axis];
+                let get = |r: usize| {
+                    let mut c = c;
+                    c[axis] = r;
+                    nodes[at(dims, c)].coords
+                };
+                let a = r as f64 / d1;
+                let v = if r == 0 {
+                    get(0)
+                } else if r == dims[axis] {
+                    get(r - 1)
+                } else {
+                    get(r - 1) * a + get(r) * (1.0 - a)
+                };
+                out[at(out_dims, c)] = Point3::from(v);
+            }
+        }
+    }
+    (out_dims, out)
+}
+
+#[test]
+fn lowering_finds_the_degrees_a_lattice_was_elevated_from() {
+    let low = volume([2, 2, 1], 0.05, 21);
+    let (mut dims, mut nodes) = ([3, 3, 2], low.control_points());
+    for axis in [0, 0, 1, 2, 2] {
+        (dims, nodes) = elevate_nodes(dims, &nodes, axis);
+    }
+    assert_eq!(dims, [5, 4, 4]);
+    let full = BezierVolume::try_new([4, 3, 3], nodes, low.origin(), *low.to_unit()).unwrap();
+    let (found, bound) = full.lowered(1e-13);
+    assert_eq!(found.degrees(), [2, 2, 1]);
+    assert!(bound <= 1e-13, "{bound:e}");
+    for (a, b) in found.control_points().iter().zip(&low.control_points()) {
+        assert!((a - b).norm() <= 1e-13, "{a} {b}");
+    }
+    // Composed through the lowered map: degree 3·5 instead of 3·10, the same surface.
+    let s = surface(3, 3, false, 4);
+    let r = s.composed_with(&found).unwrap();
+    assert_eq!((r.u_degree(), r.v_degree()), (15, 15));
+    assert!(matches!(s.composed_with(&full), Err(Error::ComposedDegree { u_degree: 30, .. })));
+    assert!(max_dev(&r, &s, |x| full.eval(x)) <= COMPOSE_EXACT * size(&s));
+    // A generic lattice has its full degrees, and the zero tolerance lowers nothing that
+    // is not exact in floating point.
+    let generic = volume([4, 3, 3], 0.05, 22);
+    let (same, bound) = generic.lowered(1e-9);
+    assert_eq!((same.degrees(), bound), ([4, 3, 3], 0.0));
+    let (_, b0) = full.lowered(0.0);
+    assert_eq!(b0, 0.0);
+}
