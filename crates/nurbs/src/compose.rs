@@ -185,7 +185,7 @@ impl BezierVolume {
         for axis in 0..3 {
             while out.degrees[axis] > 1 {
                 let (next, err) = out.lowered_once(axis);
-                if !(bound + err <= tol) {
+                if bound + err > tol {
                     break;
                 }
                 bound += err;
