@@ -4,7 +4,7 @@
 //!
 //! Every deformation cadmorph has is linear in its parameters θ (FFD lattice
 //! displacements, RBF and IDW control-point displacements;
-//! [`LinearInParameters`](cadmorph::morph::LinearInParameters)). With `P` the base's
+//! [`cadmorph::morph::LinearInParameters`]). With `P` the base's
 //! control points stacked, `θ₀` the deformation file's parameters and `J = ∂φ(P)/∂μ` the
 //! columns of the campaign parameters only,
 //!

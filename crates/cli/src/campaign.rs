@@ -19,7 +19,7 @@ pub struct Args {
 struct Campaign {
     /// The design space (campaign.toml).
     campaign: PathBuf,
-    /// The campaign folder (default: [campaign] output of the file, or <stem>.out beside it).
+    /// The campaign folder (default: `[campaign] output` of the file, or `<stem>.out` beside it).
     #[arg(long)]
     out: Option<PathBuf>,
 }

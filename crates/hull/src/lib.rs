@@ -1,8 +1,8 @@
 //! Object laws for hulls and other closed CAD models (paper section 2.2 and its closing
 //! remarks): the exact enclosed volume of a closed NURBS B-rep and its derivatives
 //! ([`volume`]), FFD that keeps the volume or the barycentre of a CAD model
-//! ([`keep`]), a Lackenby-style shift of the longitudinal centre of buoyancy
-//! ([`lackenby`]), the planing-hull chine law ([`chine`]), length, beam, draft and block
+//! ([`keep()`]), a Lackenby-style shift of the longitudinal centre of buoyancy
+//! ([`lackenby`]), the planing-hull chine law ([`chine()`]), length, beam, draft and block
 //! coefficient changes ([`dims`]).
 //!
 //! The crate works on the model's faces ([`cadmorph_model::Model::patches`]) and bounding

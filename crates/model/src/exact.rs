@@ -123,7 +123,7 @@ impl ExactFfd {
         weights.is_none_or(|w| w.iter().all(|&w| w > 0.0)) && points.iter().all(|p| self.volume.contains(p, INSIDE_TOL))
     }
 
-    /// Whether `s` lies in the box (see [`holds`](Self::holds)) and the FFD moves anything.
+    /// Whether `s` lies in the box (every control point in the closed box, every weight positive) and the FFD moves anything.
     pub fn holds_surface(&self, s: &NurbsSurface) -> bool {
         self.moves && self.holds(s.control_points(), s.weights())
     }

@@ -4,7 +4,7 @@
 //! patching the original document, so that everything the morph did not touch stays
 //! byte for byte as it was.
 //!
-//! [`Model`] is generic over [`CadDocument`](cadmorph_brep::CadDocument), the trait
+//! [`Model`] is generic over [`cadmorph_brep::CadDocument`], the trait
 //! `cadmorph-iges` and `cadmorph-step` implement: it reads and writes no syntax and names
 //! no format, so one code path morphs, refines and measures both. The facade crate
 //! `cadmorph` opens a file of either format (`cadmorph::open`); with one format in hand,

@@ -367,7 +367,7 @@ impl<D: CadDocument> Model<D> {
     /// Writes the document to `path` through a temporary file in the same folder and a
     /// rename, so a failure never leaves half a file. The file's extension must be one
     /// of the document's format (`.igs`/`.iges` for IGES, `.stp`/`.step`/`.p21` for
-    /// STEP); use [`save_as`](Self::save_as) to write another format.
+    /// STEP); a document is written in its own format only.
     ///
     /// # Errors
     ///

@@ -4,7 +4,7 @@
 //! Sizes that come from input (a lattice of `L×M×N` nodes, `N` RBF centres, a number of
 //! knots to insert) are multiplied out in `u128`, so they cannot wrap, and compared with
 //! the budget before anything is allocated. A request over the budget is refused with
-//! [`Error::TooLarge`](crate::Error::TooLarge), which names the parameter and the bytes it
+//! [`crate::Error::TooLarge`], which names the parameter and the bytes it
 //! would need, instead of aborting the process on a failed allocation.
 //!
 //! The budget is process-wide (like rayon's global pool): programs set it once at start-up

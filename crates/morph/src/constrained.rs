@@ -1,6 +1,6 @@
 //! Constrained morphs: the parameters nearest to the user's that meet constraints.
 //!
-//! Given the user's parameters θᵤ (FFD lattice displacements, in [`LinearInParameters`]
+//! Given the user's parameters θᵤ (FFD lattice displacements, in [`LinearInParameters`](crate::LinearInParameters)
 //! layout) and a diagonal metric `M` (`M_ii = 0`: parameter `i` is fixed; `M = I`: plain
 //! least squares), the constrained parameters solve
 //!

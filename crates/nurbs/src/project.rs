@@ -94,7 +94,7 @@ pub trait CurveProject: Curve {
     /// # Tolerance
     ///
     /// `tol` is the accuracy in model units of the returned point; see the
-    /// [module docs](self) for the stopping rules. The cost is one sampling pass
+    /// source comments at the top of `project.rs` for the stopping rules. The cost is one sampling pass
     /// (`O(spans · degree)` evaluations) plus a few Newton steps per start value.
     fn project(&self, p: &Point3<f64>, tol: f64) -> CurveProjection;
 }
@@ -121,7 +121,7 @@ pub trait SurfaceProject: Surface {
     /// # Tolerance
     ///
     /// `tol` is the accuracy in model units of the returned point; see the
-    /// [module docs](self) for the stopping rules. The cost is one sampling pass
+    /// source comments at the top of `project.rs` for the stopping rules. The cost is one sampling pass
     /// (`O(spans_u · spans_v · p · q)` evaluations, at most 256² points) plus a few
     /// Newton steps per start value.
     fn project(&self, p: &Point3<f64>, tol: f64) -> Projection;

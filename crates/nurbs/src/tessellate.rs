@@ -39,7 +39,7 @@ use nalgebra::{Point3, Vector3};
 use crate::{Curve, KnotVector, NurbsCurve, NurbsSurface, Surface};
 
 /// The chord deviation at edge midpoints is kept below this fraction of `tol` (see the
-/// [module docs](self)).
+/// source comments at the top of `tessellate.rs`).
 const MIDPOINT_FRACTION: f64 = 0.7;
 /// Refinement rounds before giving up (each at least doubles nothing, but adds one part).
 const MAX_ROUNDS: usize = 40;
@@ -222,7 +222,7 @@ impl NurbsSurface {
     /// # Tolerance
     ///
     /// The surface lies in the box up to the accuracy of the tessellation (see the
-    /// [module docs](self)) and rounding; the box exceeds the surface's true extent by at
+    /// source comments at the top of `tessellate.rs`) and rounding; the box exceeds the surface's true extent by at
     /// most about `2·tol`. The cost is that of [`tessellate`](Self::tessellate).
     pub fn tight_bounding_box(&self, tol: f64) -> Aabb {
         let mesh = self.tessellate(tol);
@@ -231,7 +231,7 @@ impl NurbsSurface {
     }
 
     /// Triangles within the chordal tolerance `tol` of the surface (see the
-    /// [module docs](self) for the algorithm).
+    /// source comments at the top of `tessellate.rs` for the algorithm).
     ///
     /// # Tolerance
     ///

@@ -81,7 +81,7 @@ fn polyline_length(c: &NurbsCurve, n: usize) -> f64 {
 /// # Pairing
 ///
 /// Each boundary is sampled onto the boundaries at least as long as it (by length, then
-/// by index), found through a bounding-box index ([`BoxIndex`]), and keeps the one
+/// by index), found through a bounding-box index (`BoxIndex`), and keeps the one
 /// partner it lies on over the largest part of its length (the first in index order
 /// among equals), as OCCT's sewing gives each free edge one partner. So a model of `n`
 /// faces pairs in `O(n log n)` box queries plus a bounded number of overlap tests per
