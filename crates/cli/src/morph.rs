@@ -74,13 +74,15 @@ pub struct Args {
     #[arg(long)]
     repair: bool,
     /// Exact FFD: every face inside the lattice's box becomes its exact image (degree
-    /// p·(l+m+n) for an (l+1)×(m+1)×(n+1) lattice; refused above 25, OCCT's limit), then
-    /// knot removal within --exact-tol; faces crossing the box are morphed (and refined
-    /// with --refine-tol) as without it.
+    /// p·(l+m+n) for an (l+1)×(m+1)×(n+1) lattice, l, m, n lowered where the moves make
+    /// a lower-degree map; above 25, OCCT's limit, reduced to 25 within --exact-tol or
+    /// refused), then knot removal within the rest of --exact-tol; faces crossing the box
+    /// are morphed (and refined with --refine-tol) as without it.
     #[arg(long, conflicts_with_all = ["repair", "uniform_knots"])]
     exact: bool,
-    /// With --exact: how far knot removal may move an exact face, model units.
-    /// Default: 1e-13 × the model size.
+    /// With --exact: how far degree reduction (above degree 25) and knot removal
+    /// together may move an exact face from the exact image, model units.
+    /// Default: 1e-13 × the model size (rounding: no reduction).
     #[arg(long, requires = "exact", value_parser = crate::limits::positive)]
     exact_tol: Option<f64>,
     /// Morph the faces that convert and keep the others as they are (listed on standard
@@ -287,13 +289,20 @@ pub fn run(a: Args) -> Result<()> {
                 m.unit()
             );
         }
+        if r.reduction_bound > 0.0 {
+            println!(
+                "exact FFD: images above degree 25 reduced to 25 within {:.3e} {} (of the bound below)",
+                r.reduction_bound,
+                m.unit()
+            );
+        }
         println!(
             "exact FFD: {} faces exact ({} control points composed, {} after knot removal, bound {:.3e} {}), {} \
              curves exact, {} faces crossing the box morphed by their control points",
             r.exact_faces,
             r.composed_control_points,
             r.written_control_points,
-            r.removal_bound,
+            r.removal_bound + r.reduction_bound,
             m.unit(),
             r.exact_curves,
             r.other_faces

@@ -138,6 +138,42 @@ fn occt_reads_the_exact_hull_as_valid() {
     assert_eq!(report["n_faces"], 3, "{report}");
 }
 
+/// `--exact` on the mixed solid under a 3x3x3 lattice whose centre node moves: the
+/// degree-8 lofts need degree 48 x 6. At the default tolerance (rounding) that is
+/// refused, naming the degree and the reduction's bound, and nothing is written; with
+/// `--exact-tol` at 1e-8 of the solid's size the images are reduced to degree 25 and
+/// every seam stays within the input's gaps plus 1e-7 of the size.
+#[test]
+fn exact_ffd_above_degree_25_is_reduced_within_the_tolerance_or_refused() {
+    let out = temp("solid333.stp");
+    let o = out.to_str().unwrap();
+    let prm = "samples/prm/solid_box333.toml";
+    let r = cadmorph(&["morph", "samples/mixed_solid.stp", "--ffd", prm, "--exact", "-o", o]);
+    assert_eq!(r.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(err.contains("degree 48 x 6") && err.contains("reducing it to 25 would move it by"), "{err}");
+    assert!(!out.exists(), "a refused run wrote its output");
+    let size = 78.1; // the solid's box diagonal, mm
+    let tol = format!("{}", 1e-8 * size);
+    for input in ["samples/mixed_solid.stp", "samples/mixed_solid_brep.igs", "samples/mixed_solid.igs"] {
+        let out = temp(&format!("solid333.{}", if input.ends_with("stp") { "stp" } else { "igs" }));
+        let o = out.to_str().unwrap();
+        let r = cadmorph(&["morph", input, "--ffd", prm, "--exact", "--exact-tol", &tol, "--json", "-o", o]);
+        assert!(r.status.success(), "{input}: {}", String::from_utf8_lossy(&r.stderr));
+        let json: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
+        let exact = &json["exact"];
+        assert_eq!((exact["exact_faces"].as_u64(), exact["other_faces"].as_u64()), (Some(14), Some(0)), "{input}");
+        let reduction = exact["reduction_bound"].as_f64().unwrap();
+        assert!(reduction > 0.0 && reduction <= 1e-8 * size, "{input}: {reduction:e}");
+        let (before, after) = (gaps(&json, "seams_before"), gaps(&json, "seams_after"));
+        assert_eq!(before.len(), after.len(), "{input}");
+        for (b, a) in before.iter().zip(&after) {
+            assert!(*a <= b + 1e-7 * size, "{input}: gap {a:e} after, {b:e} before");
+        }
+        assert_eq!(json["seams_after"]["summary"]["sharp_edges"], 28, "{input}");
+    }
+}
+
 #[test]
 fn a_lattice_needing_degree_30_is_refused_and_nothing_is_written() {
     // bow_dome.prm's 5 x 4 x 4 lattice on a box holding the whole hull, with one node's

@@ -83,8 +83,9 @@ pub enum Error {
         det: f64,
     },
     /// The exact FFD of a face or curve cannot be built (see `Model::morph_exact`): the
-    /// degree it needs is above OCCT's limit of 25, or the result is not finite.
-    #[error("exact FFD of {what}: {source}")]
+    /// degree it needs is above OCCT's limit of 25 and does not reduce to it within the
+    /// tolerance, or the result is not finite. The kernel's reason is the source.
+    #[error("exact FFD of {what}")]
     Exact {
         /// What: `"face #17"`, `"curve DE 45"`, `"the lattice"`.
         what: String,

@@ -72,6 +72,10 @@ pub struct ExactReport {
     pub written_control_points: usize,
     /// The largest bound on how far knot removal moved an exact face (model units).
     pub removal_bound: f64,
+    /// The largest bound on how far the degree reduction of an exact image above degree
+    /// 25 moved it (model units; 0 when none needed one). With `removal_bound` it stays
+    /// within the exact form's tolerance.
+    pub reduction_bound: f64,
 }
 
 impl ExactFfd {
@@ -133,31 +137,42 @@ impl ExactFfd {
         self.moves && self.holds(c.control_points(), c.weights())
     }
 
-    /// The exact image of `s`, its surplus knots removed within the tolerance; returns
-    /// it with the control points composed and the removal's bound.
+    /// The exact image of `s`, reduced to degree 25 where it needs more (within the
+    /// tolerance, [`NurbsSurface::composed_within`]), its surplus knots removed within
+    /// what the reduction left of the tolerance; returns it with the control points
+    /// composed, the removal's bound and the reduction's bound (their sum is within the
+    /// tolerance).
     ///
     /// # Errors
     ///
     /// The kernel's [`ComposedDegree`](cadmorph_nurbs::Error::ComposedDegree) (above
-    /// degree 25) or a non-finite result, as [`Error::Exact`] naming `entity`.
-    pub fn surface(&self, s: &NurbsSurface, entity: EntityRef) -> Result<(NurbsSurface, usize, f64)> {
-        let mut r =
-            s.composed_with(&self.volume).map_err(|source| Error::Exact { what: format!("face {entity}"), source })?;
+    /// degree 64, or above 25 with a zero tolerance),
+    /// [`ComposedReduction`](cadmorph_nurbs::Error::ComposedReduction) (the reduction to
+    /// 25 would move it further than the tolerance) or a non-finite result, as
+    /// [`Error::Exact`] naming `entity`.
+    pub fn surface(&self, s: &NurbsSurface, entity: EntityRef) -> Result<(NurbsSurface, usize, f64, f64)> {
+        let (mut r, reduction) = s
+            .composed_within(&self.volume, self.removal_tol)
+            .map_err(|source| Error::Exact { what: format!("face {entity}"), source })?;
         let composed = r.control_points().len();
-        let bound = if self.removal_tol > 0.0 { r.remove_knots_within(self.removal_tol).bound } else { 0.0 };
-        Ok((r, composed, bound))
+        let left = self.removal_tol - reduction;
+        let bound = if left > 0.0 { r.remove_knots_within(left).bound } else { 0.0 };
+        Ok((r, composed, bound, reduction))
     }
 
-    /// The exact image of `c`, its surplus knots removed within the tolerance.
+    /// The exact image of `c`, reduced and its surplus knots removed as
+    /// [`surface`](Self::surface) does.
     ///
     /// # Errors
     ///
     /// As [`surface`](Self::surface).
     pub fn curve(&self, c: &NurbsCurve, entity: EntityRef) -> Result<NurbsCurve> {
-        let mut r =
-            c.composed_with(&self.volume).map_err(|source| Error::Exact { what: format!("curve {entity}"), source })?;
-        if self.removal_tol > 0.0 {
-            r.remove_knots_within(self.removal_tol);
+        let (mut r, reduction) = c
+            .composed_within(&self.volume, self.removal_tol)
+            .map_err(|source| Error::Exact { what: format!("curve {entity}"), source })?;
+        let left = self.removal_tol - reduction;
+        if left > 0.0 {
+            r.remove_knots_within(left);
         }
         Ok(r)
     }
@@ -169,8 +184,9 @@ impl<D: CadDocument> Model<D> {
     /// does too; IGES trimming curves are traced on the exact face as by
     /// [`morph`](Self::morph), because OCCT's IGES reader fails to re-parameterize the
     /// exact image of a conic arc against its parameter-space curve) becomes its exact
-    /// image under the FFD ([`ExactFfd`]: degree `p·(l+m+n)`, then
-    /// knot removal within the exact form's tolerance), analytic faces through their
+    /// image under the FFD ([`ExactFfd`]: degree `p·(l+m+n)`, reduced to 25 within the
+    /// exact form's tolerance where it is higher, then knot removal within what is left
+    /// of that tolerance), analytic faces through their
     /// exact B-spline form; the other faces go the way of [`morph`](Self::morph), with
     /// `opts`' refinement for the edges that touch them. Exact faces keep their
     /// parameters, so edges shared by two of them have the input's gaps mapped by the
@@ -179,7 +195,8 @@ impl<D: CadDocument> Model<D> {
     /// # Errors
     ///
     /// [`Error::Exact`] before the document changes when a face or curve in the box
-    /// would need a degree above 25, naming the degree; [`Error::Unsupported`] with
+    /// would need a degree above 25 that cannot be reduced to 25 within the exact form's
+    /// tolerance (or above 64), naming the degree; [`Error::Unsupported`] with
     /// `opts.repair` or `opts.uniform_knots` (they edit the nets the composition
     /// replaces); those of [`morph`](Self::morph).
     pub fn morph_exact(
@@ -193,22 +210,18 @@ impl<D: CadDocument> Model<D> {
             return Err(Error::Unsupported("the exact FFD takes no --repair or --uniform-knots"));
         }
         let inside: Vec<bool> = self.faces.iter().map(|f| exact.holds_surface(&f.surface)).collect();
-        // Refuse before anything changes: every degree the exact path will need.
+        // Refuse before anything changes: every face or curve whose exact image needs a
+        // degree above 25 is composed and reduced here once (the others always compose).
         let d = exact.degree_factor();
+        let over = |p: usize| p * d > cadmorph_nurbs::MAX_DEGREE;
         for (face, _) in self.faces.iter().zip(&inside).filter(|(_, &i)| i) {
-            let (p, q) = (face.surface.u_degree() * d, face.surface.v_degree() * d);
-            if p > cadmorph_nurbs::MAX_DEGREE || q > cadmorph_nurbs::MAX_DEGREE {
-                let source =
-                    cadmorph_nurbs::Error::ComposedDegree { u_degree: p, v_degree: q, max: cadmorph_nurbs::MAX_DEGREE };
-                return Err(Error::Exact { what: format!("face {}", face.entity), source });
+            if over(face.surface.u_degree()) || over(face.surface.v_degree()) {
+                exact.surface(&face.surface, face.entity)?;
             }
         }
         for b in self.bounds.iter().filter(|b| inside[b.face] && exact.holds_curve(&b.curve)) {
-            let p = b.curve.degree() * d;
-            if p > cadmorph_nurbs::MAX_DEGREE {
-                let source =
-                    cadmorph_nurbs::Error::ComposedDegree { u_degree: p, v_degree: 0, max: cadmorph_nurbs::MAX_DEGREE };
-                return Err(Error::Exact { what: format!("curve {}", b.label), source });
+            if over(b.curve.degree()) {
+                exact.curve(&b.curve, b.label)?;
             }
         }
         let mut report = ExactReport {

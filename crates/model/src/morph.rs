@@ -306,9 +306,10 @@ impl<D: CadDocument> Model<D> {
             for (k, (p, s)) in self.faces.iter().zip(&mut patches).enumerate() {
                 // Analytic faces are composed in their file's B-spline form when written.
                 if inside[k] && !p.kind.is_analytic() {
-                    let (r, composed, bound) = e.surface(&p.surface, p.entity)?;
+                    let (r, composed, bound, reduction) = e.surface(&p.surface, p.entity)?;
                     report.composed_control_points += composed;
                     report.removal_bound = report.removal_bound.max(bound);
+                    report.reduction_bound = report.reduction_bound.max(reduction);
                     *s = r;
                 }
             }
@@ -416,9 +417,10 @@ impl<D: CadDocument> Model<D> {
                 let target = match exact.as_mut().filter(|(e, inside, _)| inside[k] && e.holds_surface(&b)) {
                     Some((e, _, report)) => {
                         *unmoved.last_mut().expect("pushed above") = b.clone();
-                        let (r, composed, bound) = e.surface(&b, face.entity)?;
+                        let (r, composed, bound, reduction) = e.surface(&b, face.entity)?;
                         report.composed_control_points += composed;
                         report.removal_bound = report.removal_bound.max(bound);
+                        report.reduction_bound = report.reduction_bound.max(reduction);
                         r
                     }
                     None => {

@@ -339,15 +339,86 @@ impl BezierVolume {
         total.expect("l ≥ 1")
     }
 
-    /// The degrees `(p·D, q·D)` a surface of degrees `(p, q)` needs, or the error that
-    /// names them when either is above [`MAX_DEGREE`].
-    fn check_degrees(&self, p: usize, q: usize) -> Result<(usize, usize)> {
+    /// The degrees `(p·D, q·D)` a surface of degrees `(p, q)` needs, and the degrees it
+    /// is written at: the same, or [`MAX_DEGREE`] where they exceed it and `tol > 0`
+    /// allows a reduction. The error names the degrees needed when they exceed
+    /// [`MAX_DEGREE`] and no reduction is allowed, or exceed [`COMPOSE_CAP`].
+    fn check_degrees(&self, p: usize, q: usize, tol: f64) -> Result<((usize, usize), (usize, usize))> {
         let d = self.degree_factor();
         let (pu, qv) = (p * d, q * d);
-        if pu > MAX_DEGREE || qv > MAX_DEGREE {
+        let over = pu > MAX_DEGREE || qv > MAX_DEGREE;
+        let reducible = tol > 0.0 && tol.is_finite() && pu <= COMPOSE_CAP && qv <= COMPOSE_CAP;
+        if over && !reducible {
             return Err(Error::ComposedDegree { u_degree: pu, v_degree: qv, max: MAX_DEGREE });
         }
-        Ok((pu, qv))
+        Ok(((pu, qv), (pu.min(MAX_DEGREE), qv.min(MAX_DEGREE))))
+    }
+}
+
+/// The highest degree a composition is carried out at before it is reduced to
+/// [`MAX_DEGREE`]: beyond it the reduction would have to remove more than the degree it
+/// keeps, and the composition's cost (quadratic in the degree per direction) buys nothing.
+const COMPOSE_CAP: usize = 64;
+
+impl Bernstein<Hom> {
+    /// The same rows and columns swapped (`(q, p)`).
+    fn transposed(&self) -> Self {
+        let (p, q) = (self.p, self.q);
+        let mut c = vec![Hom::zeros(); self.c.len()];
+        for i in 0..=p {
+            for j in 0..=q {
+                c[j * (p + 1) + i] = self.c[i * (q + 1) + j];
+            }
+        }
+        Bernstein { p: q, q: p, c }
+    }
+
+    /// One degree less in u: every column (fixed `j`) reduced as a Bézier curve (the
+    /// Bézier step of Piegl & Tiller A5.11), and the bound of
+    /// [`deviation_bound`](crate::reduce::deviation_bound) between the net and the
+    /// reduced net elevated back (eq. (5.36)), which bounds how far the piece moved.
+    fn reduced_u(&self, rational: bool) -> (Self, f64) {
+        let (p, q) = (self.p, self.q);
+        let mut c = vec![Hom::zeros(); p * (q + 1)];
+        let (mut original, mut back) = (Vec::with_capacity(self.c.len()), Vec::with_capacity(self.c.len()));
+        for j in 0..=q {
+            let line: Vec<Hom> = (0..=p).map(|i| self.c[i * (q + 1) + j]).collect();
+            let r = crate::reduce::bezier_reduce(&line);
+            for i in 0..=p {
+                let a = i as f64 / p as f64;
+                back.push(match i {
+                    0 => r[0],
+                    _ if i == p => r[p - 1],
+                    _ => r[i - 1] * a + r[i] * (1.0 - a),
+                });
+            }
+            original.extend(line);
+            for (i, h) in r.into_iter().enumerate() {
+                c[i * (q + 1) + j] = h;
+            }
+        }
+        (Bernstein { p: p - 1, q, c }, crate::reduce::deviation_bound(&original, &back, rational))
+    }
+
+    /// Reduced to degrees `(pu, qv)` (at most its own) one step at a time; returns the
+    /// net and the sum of the steps' bounds (infinite if a step's is).
+    fn reduced_to(mut self, pu: usize, qv: usize, rational: bool) -> (Self, f64) {
+        let mut bound = 0.0;
+        while self.p > pu {
+            let (next, b) = self.reduced_u(rational);
+            self = next;
+            bound += b;
+        }
+        if self.q > qv {
+            let mut t = self.transposed();
+            while t.p > qv {
+                let (next, b) = t.reduced_u(rational);
+                t = next;
+                bound += b;
+            }
+            self = t.transposed();
+        }
+        (self, bound)
     }
 }
 
@@ -447,9 +518,31 @@ impl NurbsSurface {
     /// [`Error::ComposedDegree`] when a degree would exceed [`MAX_DEGREE`] (OCCT's
     /// limit), naming the degrees needed; [`Error::NotFinite`] if the result is not finite.
     pub fn composed_with(&self, v: &BezierVolume) -> Result<NurbsSurface> {
+        self.composed_within(v, 0.0).map(|(s, _)| s)
+    }
+
+    /// [`composed_with`](Self::composed_with), and where the exact image needs a degree
+    /// above [`MAX_DEGREE`] (up to 64), that image reduced to [`MAX_DEGREE`] within
+    /// `tol` (model units): each Bézier piece is composed at its full degree and then
+    /// lowered one degree at a time (the Bézier step of Piegl & Tiller A5.11), each step
+    /// bounded by its difference to the piece it came from, elevated back. Returns the
+    /// surface and that bound (0 when no reduction was needed).
+    ///
+    /// The reduction keeps a piece's boundary rows functions of those rows alone (a
+    /// reduction across them keeps their end points, one along them sees only them), so
+    /// two faces whose exact images share a boundary curve, parametrised alike, still
+    /// share it after the reduction.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::ComposedDegree`] when a degree needed is above 64, or above
+    /// [`MAX_DEGREE`] with `tol = 0`; [`Error::ComposedReduction`] when the reduction's
+    /// bound exceeds `tol`; [`Error::NotFinite`] if the result is not finite.
+    pub fn composed_within(&self, v: &BezierVolume, tol: f64) -> Result<(NurbsSurface, f64)> {
         let c = self.clamped();
         let (p, q) = (c.u_degree(), c.v_degree());
-        let (pd, qd) = v.check_degrees(p, q)?;
+        let ((pn, qn), (pd, qd)) = v.check_degrees(p, q, tol)?;
+        let rational = c.is_rational();
         let (uvals, umults) = c.u_knots().distinct();
         let (vvals, vmults) = c.v_knots().distinct();
         let (uk, ubroken) = joined_knots(&uvals, &umults, p, pd);
@@ -457,11 +550,13 @@ impl NurbsSurface {
         let n_u = uk.len() - pd - 1;
         let n_v = vk.len() - qd - 1;
         let mut pw = vec![Hom::zeros(); n_u * n_v];
+        let mut bound = 0.0;
         for (a, row) in c.bezier_patches().iter().enumerate() {
             let i0 = piece_start(a, pd, &ubroken);
             for (b, piece) in row.iter().enumerate() {
                 let j0 = piece_start(b, qd, &vbroken);
-                let net = v.compose_piece(p, q, &piece.homogeneous());
+                let (net, b) = v.compose_piece(p, q, &piece.homogeneous()).reduced_to(pd, qd, rational);
+                bound = f64::max(bound, b);
                 for i in 0..=pd {
                     for j in 0..=qd {
                         pw[(i0 + i) * n_v + j0 + j] = net.c[i * (qd + 1) + j];
@@ -469,7 +564,9 @@ impl NurbsSurface {
                 }
             }
         }
-        let rational = c.is_rational();
+        if (bound.is_nan() || bound > tol) && (pn, qn) != (pd, qd) {
+            return Err(Error::ComposedReduction { u_degree: pn, v_degree: qn, max: MAX_DEGREE, bound, tol });
+        }
         if !rational {
             for h in &mut pw {
                 *h = Hom::new(h.x / h.w, h.y / h.w, h.z / h.w, 1.0);
@@ -480,7 +577,7 @@ impl NurbsSurface {
         if let Some(w) = s.weights() {
             crate::curve::check_weights(w, w.len(), true)?;
         }
-        Ok(s)
+        Ok((s, bound))
     }
 }
 
@@ -492,19 +589,35 @@ impl NurbsCurve {
     ///
     /// [`Error::ComposedDegree`] above [`MAX_DEGREE`]; [`Error::NotFinite`].
     pub fn composed_with(&self, v: &BezierVolume) -> Result<NurbsCurve> {
+        self.composed_within(v, 0.0).map(|(c, _)| c)
+    }
+
+    /// [`composed_with`](Self::composed_with), reduced to [`MAX_DEGREE`] within `tol`
+    /// where the exact image needs more (see [`NurbsSurface::composed_within`]); returns
+    /// the curve and the reduction's bound.
+    ///
+    /// # Errors
+    ///
+    /// As [`NurbsSurface::composed_within`].
+    pub fn composed_within(&self, v: &BezierVolume, tol: f64) -> Result<(NurbsCurve, f64)> {
         let c = self.clamped();
         let p = c.degree();
-        let (pd, _) = v.check_degrees(p, 0)?;
+        let ((pn, _), (pd, _)) = v.check_degrees(p, 0, tol)?;
+        let rational = c.is_rational();
+        let mut bound = 0.0;
         let (vals, mults) = c.knots().distinct();
         let (knots, broken) = joined_knots(&vals, &mults, p, pd);
         let n = knots.len() - pd - 1;
         let mut pw = vec![Hom::zeros(); n];
         for (a, seg) in c.bezier_segments().iter().enumerate() {
             let i0 = piece_start(a, pd, &broken);
-            let net = v.compose_piece(p, 0, &seg.homogeneous());
+            let (net, b) = v.compose_piece(p, 0, &seg.homogeneous()).reduced_to(pd, 0, rational);
+            bound = f64::max(bound, b);
             pw[i0..=i0 + pd].copy_from_slice(&net.c);
         }
-        let rational = c.is_rational();
+        if (bound.is_nan() || bound > tol) && pn != pd {
+            return Err(Error::ComposedReduction { u_degree: pn, v_degree: 0, max: MAX_DEGREE, bound, tol });
+        }
         if !rational {
             for h in &mut pw {
                 *h = Hom::new(h.x / h.w, h.y / h.w, h.z / h.w, 1.0);
@@ -512,6 +625,6 @@ impl NurbsCurve {
         }
         let out = NurbsCurve::from_parts(pd, knots, &pw, rational);
         crate::curve::check_points(out.control_points())?;
-        Ok(out)
+        Ok((out, bound))
     }
 }

@@ -177,6 +177,25 @@ pub enum Error {
         /// The largest degree allowed.
         max: usize,
     },
+    /// An exact composition above the largest allowed degree whose degree reduction to
+    /// that degree (see [`NurbsSurface::composed_within`](crate::NurbsSurface::composed_within))
+    /// would move it by more than the tolerance.
+    #[error(
+        "the exact composition needs degree {u_degree} x {v_degree}, above the maximum of {max} (OCCT's limit), \
+         and reducing it to {max} would move it by {bound:.3e}, more than the tolerance {tol:.3e}"
+    )]
+    ComposedReduction {
+        /// The degree needed in u (along a curve).
+        u_degree: usize,
+        /// The degree needed in v (0 for a curve).
+        v_degree: usize,
+        /// The largest degree allowed.
+        max: usize,
+        /// The reduction's deviation bound (model units).
+        bound: f64,
+        /// The tolerance asked for.
+        tol: f64,
+    },
     /// A data reduction (degree reduction, knot removal) that would move the curve by
     /// more than the tolerance.
     #[error("{operation}: the curve would move by more than {tol}{}", if bound.is_finite() { format!(" (bound {bound:e})") } else { String::from(" (no bound: a knot cannot be removed within it, or a weight would not stay positive)") })]

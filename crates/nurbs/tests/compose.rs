@@ -284,3 +284,71 @@ fn lowering_finds_the_degrees_a_lattice_was_elevated_from() {
     let (_, b0) = full.lowered(0.0);
     assert_eq!(b0, 0.0);
 }
+
+/// Two degree-(8, 1) patches sharing a boundary along u (the first's `v = 1` row is the
+/// second's `v = 0` row), several u spans.
+fn neighbours() -> (NurbsSurface, NurbsSurface) {
+    let n_u = 12;
+    let mut ku = vec![0.0; 9];
+    ku.extend([0.25, 0.5, 0.75]);
+    ku.extend(vec![1.0; 9]);
+    let ku = KnotVector::try_new(ku).unwrap();
+    let kv = KnotVector::try_new(vec![0.0, 0.0, 1.0, 1.0]).unwrap();
+    let row = |y: f64, z: f64| -> Vec<Point3<f64>> {
+        (0..n_u)
+            .map(|i| {
+                let x = i as f64 / (n_u - 1) as f64 * 1.8;
+                Point3::new(x, y + 0.1 * (4.0 * x).sin(), z + 0.3 * (2.0 * x).cos())
+            })
+            .collect()
+    };
+    let (a, b, c) = (row(-0.4, 0.0), row(0.3, 0.4), row(0.9, 0.2));
+    let net = |r0: &[Point3<f64>], r1: &[Point3<f64>]| -> Vec<Point3<f64>> {
+        r0.iter().zip(r1).flat_map(|(p, q)| [*p, *q]).collect()
+    };
+    let s = |r0: &[Point3<f64>], r1: &[Point3<f64>]| {
+        NurbsSurface::try_new((8, 1), (ku.clone(), kv.clone()), (n_u, 2), net(r0, r1), None).unwrap()
+    };
+    (s(&a, &b), s(&b, &c))
+}
+
+#[test]
+fn an_image_above_degree_25_is_reduced_within_the_tolerance_and_shared_edges_stay_shared() {
+    // A 3x3x3 lattice (degree factor 6) on degree-8 patches: the exact image is degree
+    // 48 x 6, reduced to 25 x 6.
+    let v = volume([2, 2, 2], 0.03, 9);
+    let (s1, s2) = neighbours();
+    assert!(matches!(s1.composed_with(&v), Err(Error::ComposedDegree { u_degree: 48, v_degree: 6, max: 25 })));
+    let tol = 1e-6;
+    let (r1, b1) = s1.composed_within(&v, tol).unwrap();
+    let (r2, b2) = s2.composed_within(&v, tol).unwrap();
+    assert_eq!((r1.u_degree(), r1.v_degree()), (25, 6));
+    println!("reduction bounds {b1:e} {b2:e}");
+    assert!(b1 > 0.0 && b1 <= tol && b2 <= tol);
+    // The bound holds against the pointwise map.
+    assert!(max_dev(&r1, &s1, |x| v.eval(x)) <= b1 + COMPOSE_EXACT * size(&s1));
+    assert!(max_dev(&r2, &s2, |x| v.eval(x)) <= b2 + COMPOSE_EXACT * size(&s2));
+    // The shared edge, reduced along its own direction, is the same curve on both.
+    for k in 0..=40 {
+        let u = k as f64 / 40.0;
+        let gap = (r1.eval(u, 1.0) - r2.eval(u, 0.0)).norm();
+        assert!(gap <= COMPOSE_EXACT * size(&s1), "gap {gap:e} at u = {u}");
+    }
+    // The curve of the edge, composed and reduced alone, is that curve too.
+    let (edge, _) = s1.v_iso(1.0).composed_within(&v, tol).unwrap();
+    assert_eq!(edge.degree(), 25);
+    for k in 0..=40 {
+        let u = k as f64 / 40.0;
+        assert!((edge.eval(u) - r1.eval(u, 1.0)).norm() <= COMPOSE_EXACT * size(&s1));
+    }
+    // Too tight a tolerance: refused, naming the degree and the bound.
+    match s1.composed_within(&v, b1 / 10.0) {
+        Err(Error::ComposedReduction { u_degree: 48, v_degree: 6, max: 25, bound, .. }) => {
+            assert_eq!(bound, b1)
+        }
+        other => panic!("expected a refused reduction, got {other:?}"),
+    }
+    // Above degree 64 nothing is tried: 8 · (4 + 3 + 3) = 80.
+    let big = volume([4, 3, 3], 0.0, 3);
+    assert!(matches!(s1.composed_within(&big, 1.0), Err(Error::ComposedDegree { u_degree: 80, .. })));
+}
