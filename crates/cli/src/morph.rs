@@ -14,6 +14,19 @@ use crate::progress::Bar;
 /// hundred ulps, so that the exact faces stay exact to rounding (gaps ≤ 1e-12 × size).
 const EXACT_TOL: f64 = 1e-13;
 
+/// A refused degree reduction of the exact FFD names the bound it would need; say which
+/// flag allows it.
+fn exact_hint(e: cadmorph::model::Error) -> anyhow::Error {
+    let needs_tol =
+        matches!(&e, cadmorph::model::Error::Exact { source: cadmorph::nurbs::Error::ComposedReduction { .. }, .. });
+    let e = anyhow::Error::new(e);
+    if needs_tol {
+        e.context("exact FFD refused (an --exact-tol at or above the bound below allows the reduction to degree 25)")
+    } else {
+        e
+    }
+}
+
 /// Which parameter file gives the morph: the positional PARAMS, whose kind (FFD, RBF or
 /// IDW) is read from the file, or one of the flags, which also assert the kind.
 #[derive(clap::Args)]
@@ -162,7 +175,7 @@ pub fn run(a: Args) -> Result<()> {
         let context = || format!("morphing {}", a.input.display());
         match &exact {
             Some((e, ffd)) => {
-                let (o, r) = m.morph_exact(ffd, e, &opts, &bar).with_context(context)?;
+                let (o, r) = m.morph_exact(ffd, e, &opts, &bar).map_err(exact_hint).with_context(context)?;
                 (o, Some(r))
             }
             None => (m.morph_with_progress(d.as_ref(), &opts, &bar).with_context(context)?, None),
