@@ -52,13 +52,18 @@ fn exact_ffd_of_the_solid_keeps_its_seams() {
 /// bow_dome.prm's 5 x 4 x 4 lattice (and moves) on a box holding the whole hull3.
 fn whole_hull_dome() -> std::path::PathBuf {
     let prm = std::fs::read_to_string(root().join("samples/prm/bow_dome.prm")).unwrap();
+    whole_hull_box(&prm, "whole_hull_dome.prm")
+}
+
+/// The `.prm` text `prm` with its box moved to hold the whole hull3, written as `name`.
+fn whole_hull_box(prm: &str, name: &str) -> std::path::PathBuf {
     let prm = prm
         .replace("box length x: 62.0", "box length x: 149.0")
         .replace("box length y: 12.0", "box length y: 14.0")
         .replace("box length z: 12.0", "box length z: 16.5")
         .replace("box origin x: 88.0", "box origin x: -2.0")
         .replace("box origin z: -3.0", "box origin z: -2.0");
-    let p = temp("whole_hull_dome.prm");
+    let p = temp(name);
     std::fs::write(&p, prm).unwrap();
     p
 }
@@ -182,15 +187,7 @@ fn a_lattice_needing_degree_30_is_refused_and_nothing_is_written() {
     let prm = std::fs::read_to_string(root().join("samples/prm/bow_dome.prm")).unwrap();
     let line = "3   1   2   0.02";
     assert!(prm.contains(line));
-    let prm = prm
-        .replacen(line, "3   1   2   0.03", 1)
-        .replace("box length x: 62.0", "box length x: 149.0")
-        .replace("box length y: 12.0", "box length y: 14.0")
-        .replace("box length z: 12.0", "box length z: 16.5")
-        .replace("box origin x: 88.0", "box origin x: -2.0")
-        .replace("box origin z: -3.0", "box origin z: -2.0");
-    let p = temp("big_dome.prm");
-    std::fs::write(&p, prm).unwrap();
+    let p = whole_hull_box(&prm.replacen(line, "3   1   2   0.03", 1), "big_dome.prm");
     let out = temp("refused.igs");
     let r =
         cadmorph(&["morph", "samples/hull3.igs", "--ffd", p.to_str().unwrap(), "--exact", "-o", out.to_str().unwrap()]);
