@@ -222,16 +222,7 @@ impl BezierVolume {
                 };
                 let line: Vec<Hom> = (0..=d).map(|i| self.nodes[index(at(i))]).collect();
                 let reduced = crate::reduce::bezier_reduce(&line);
-                // Elevate back (eq. (5.36)) and compare.
-                for (i, q) in line.iter().enumerate() {
-                    let alpha = i as f64 / d as f64;
-                    let back = if i == 0 {
-                        reduced[0]
-                    } else if i == d {
-                        reduced[d - 1]
-                    } else {
-                        reduced[i - 1] * alpha + reduced[i] * (1.0 - alpha)
-                    };
+                for (back, q) in crate::reduce::bezier_elevate(&reduced).iter().zip(&line) {
                     err = err.max((back.xyz() - q.xyz()).norm());
                 }
                 for (i, r) in reduced.into_iter().enumerate() {
@@ -384,14 +375,7 @@ impl Bernstein<Hom> {
         for j in 0..=q {
             let line: Vec<Hom> = (0..=p).map(|i| self.c[i * (q + 1) + j]).collect();
             let r = crate::reduce::bezier_reduce(&line);
-            for i in 0..=p {
-                let a = i as f64 / p as f64;
-                back.push(match i {
-                    0 => r[0],
-                    _ if i == p => r[p - 1],
-                    _ => r[i - 1] * a + r[i] * (1.0 - a),
-                });
-            }
+            back.extend(crate::reduce::bezier_elevate(&r));
             original.extend(line);
             for (i, h) in r.into_iter().enumerate() {
                 c[i * (q + 1) + j] = h;

@@ -51,6 +51,23 @@ pub(crate) fn bezier_reduce(q: &[Hom]) -> Vec<Hom> {
     r
 }
 
+/// Degree elevation of one Bézier segment by one (Piegl & Tiller eq. (5.36)):
+/// `Qᵢ = αᵢ Pᵢ₋₁ + (1 − αᵢ) Pᵢ`, `αᵢ = i/(p+1)`. Brings a [`bezier_reduce`]d segment back
+/// onto the original's degree, where the two can be compared point by point.
+pub(crate) fn bezier_elevate(r: &[Hom]) -> Vec<Hom> {
+    let d = r.len();
+    (0..=d)
+        .map(|i| match i {
+            0 => r[0],
+            _ if i == d => r[d - 1],
+            _ => {
+                let a = i as f64 / d as f64;
+                r[i - 1] * a + r[i] * (1.0 - a)
+            }
+        })
+        .collect()
+}
+
 /// The bound of the module docs between homogeneous nets `a` (the original) and `b`
 /// on the same basis. `rational` says whether the weights take part.
 pub(crate) fn deviation_bound(a: &[Hom], b: &[Hom], rational: bool) -> f64 {
