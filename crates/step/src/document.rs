@@ -94,6 +94,9 @@ pub struct Document {
     /// The model units, once computed (cleared by edits).
     /// With the id of the context instance they were read from (none for the defaults).
     pub(crate) units_cache: std::sync::OnceLock<(crate::views::Units, Option<u64>)>,
+    /// Surfaces [`faces`](Document::faces) read, for the conversion that follows (cleared
+    /// by edits).
+    pub(crate) surface_cache: crate::views::SurfaceCache,
     /// Added instances written even though nothing references them: roots of the
     /// product structure an edit added (see `unshare.rs`).
     pub(crate) pinned: std::collections::BTreeSet<usize>,
@@ -227,6 +230,12 @@ impl Document {
                 _ => vec![],
             })
             .collect()
+    }
+
+    /// Forgets what the views read: called by every edit of the instances.
+    pub(crate) fn views_changed(&mut self) {
+        self.units_cache = std::sync::OnceLock::new();
+        self.surface_cache = crate::views::SurfaceCache::default();
     }
 
     pub(crate) fn text(&self, k: usize) -> &[u8] {

@@ -380,7 +380,7 @@ impl Document {
             self.pinned.insert(k);
         }
         self.pristine.insert(k);
-        self.units_cache = std::sync::OnceLock::new();
+        self.views_changed();
         Ok(())
     }
 

@@ -572,6 +572,7 @@ impl Document {
             insert_at,
             max_id,
             units_cache: std::sync::OnceLock::new(),
+            surface_cache: Default::default(),
             pinned: std::collections::BTreeSet::new(),
             pristine: std::collections::BTreeSet::new(),
         })

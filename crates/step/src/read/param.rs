@@ -123,6 +123,10 @@ impl<'a> Body<'a> {
 struct P<'a> {
     lx: Lexer<'a>,
     base: usize,
+    /// The items of the lists being read, innermost last: a list is gathered here and
+    /// moved into a vector of its exact length when it closes (one allocation per list,
+    /// where growing each list's vector item by item took several).
+    stack: Vec<Param<'a>>,
 }
 
 /// A number token's value, correctly rounded as `str::parse` gives it, read from the
@@ -143,17 +147,18 @@ impl<'a> P<'a> {
 
     fn params(&mut self, depth: usize) -> Result<Vec<Param<'a>>, usize> {
         // After `(`.
-        let mut out = Vec::new();
         let mut tok = self.next()?;
         if tok.kind == Kind::Close {
-            return Ok(out);
+            return Ok(Vec::new());
         }
+        let from = self.stack.len();
         loop {
-            out.push(self.param(tok, depth)?);
+            let p = self.param(tok, depth)?;
+            self.stack.push(p);
             tok = self.next()?;
             match tok.kind {
                 Kind::Comma => tok = self.next()?,
-                Kind::Close => return Ok(out),
+                Kind::Close => return Ok(self.stack.drain(from..).collect()),
                 _ => return Err(tok.start + self.base),
             }
         }
@@ -204,7 +209,7 @@ impl<'a> P<'a> {
 /// Parses `NAME(...)` or `( A(...) B(...) )` at the start of `text`; offsets are
 /// `base + ` their index in `text`. On failure returns the offset of the problem.
 pub(crate) fn parse_body(text: &[u8], base: usize) -> Result<Body<'_>, usize> {
-    let mut p = P { lx: Lexer::new(text, 0), base };
+    let mut p = P { lx: Lexer::new(text, 0), base, stack: Vec::new() };
     let tok = p.next()?;
     match tok.kind {
         Kind::Keyword => Ok(Body::Simple(p.record(tok)?)),

@@ -12,6 +12,8 @@ use crate::error::{Error, Result};
 use crate::read::param::{Body, Param, Value};
 use crate::EntityId;
 
+use std::rc::Rc;
+
 /// A 3D curve as the file defines it.
 #[derive(Debug, Clone)]
 pub(crate) enum CurveGeom {
@@ -186,6 +188,10 @@ impl<'a> Ctx<'a> {
 
     /// `DIRECTION('', (x, y, z))`.
     pub fn direction(&self, id: EntityId) -> Result<Vector3<f64>> {
+        let k = self.index(id)?;
+        if let Some(d) = fast_triple(self.doc.text(k), self.doc.instances[k].body as usize, b"DIRECTION") {
+            return Ok(Vector3::from(d));
+        }
         let r = self.simple(id, "DIRECTION")?;
         r.arity(2)?;
         let c = r.list(1)?;
@@ -233,11 +239,11 @@ impl<'a> Ctx<'a> {
 
     fn curve_inner(&self, id: EntityId) -> Result<CurveGeom> {
         let k = self.index(id)?;
-        let body = self.doc.body_at(k)?;
-        if let Body::Complex(_) = body {
-            return self.bspline_curve(id, k, &body).map(CurveGeom::Nurbs);
+        let body = self.body(k)?;
+        if let Body::Complex(_) = &*body {
+            return self.bspline_curve(k, &body).map(CurveGeom::Nurbs);
         }
-        let r = Rec::new(self.doc, k, body)?;
+        let r = Rec::new(self.doc, k, Rc::clone(&body))?;
         match r.name() {
             "LINE" => {
                 r.arity(3)?;
@@ -261,10 +267,7 @@ impl<'a> Ctx<'a> {
                 }
                 Ok(CurveGeom::Conic { frame, a, b })
             }
-            "B_SPLINE_CURVE_WITH_KNOTS" => {
-                let body = self.doc.body_at(k)?;
-                self.bspline_curve(id, k, &body).map(CurveGeom::Nurbs)
-            }
+            "B_SPLINE_CURVE_WITH_KNOTS" => self.bspline_curve(k, &body).map(CurveGeom::Nurbs),
             "POLYLINE" => {
                 r.arity(2)?;
                 let pts = r.list(1)?;
@@ -331,10 +334,10 @@ impl<'a> Ctx<'a> {
     }
 
     /// `B_SPLINE_CURVE_WITH_KNOTS` (simple) or the rational complex form.
-    fn bspline_curve(&self, _id: EntityId, k: usize, body: &Body<'_>) -> Result<NurbsCurve> {
-        let (head, knots_rec, weights) = match body {
-            Body::Simple(rec) => {
-                let r = Rec::from_record(self.doc, k, rec.clone());
+    fn bspline_curve(&self, k: usize, body: &Rc<Body<'a>>) -> Result<NurbsCurve> {
+        let (head, knots_rec, weights) = match &**body {
+            Body::Simple(_) => {
+                let r = Rec::new(self.doc, k, Rc::clone(body))?;
                 r.arity(9)?;
                 (r.clone().shifted(1), r.shifted(6), None)
             }
@@ -343,9 +346,8 @@ impl<'a> Ctx<'a> {
                 b.arity(5)?;
                 let kn = self.leaf(k, body, "B_SPLINE_CURVE_WITH_KNOTS")?;
                 kn.arity(3)?;
-                let w = match body.record("RATIONAL_B_SPLINE_CURVE") {
-                    Some(rec) => {
-                        let w = Rec::from_record(self.doc, k, rec.clone());
+                let w = match Rec::leaf(self.doc, k, body, "RATIONAL_B_SPLINE_CURVE") {
+                    Some(w) => {
                         w.arity(1)?;
                         Some(w.reals(0)?)
                     }
@@ -366,12 +368,9 @@ impl<'a> Ctx<'a> {
         NurbsCurve::try_new(degree, kv, points, weights).map_err(|e| head.geometry(e))
     }
 
-    fn leaf<'d>(&self, k: usize, body: &Body<'d>, name: &'static str) -> Result<Rec<'d>>
-    where
-        'a: 'd,
-    {
-        match body.record(name) {
-            Some(rec) => Ok(Rec::from_record(self.doc, k, rec.clone())),
+    fn leaf(&self, k: usize, body: &Rc<Body<'a>>, name: &'static str) -> Result<Rec<'a>> {
+        match Rec::leaf(self.doc, k, body, name) {
+            Some(rec) => Ok(rec),
             None => Err(Error::UnexpectedEntity {
                 at: self.doc.position_of(k, 0),
                 expected: name,
@@ -385,10 +384,35 @@ impl<'a> Ctx<'a> {
         self.nested(id, || self.surface_inner(id))
     }
 
+    fn cache_key(&self, id: EntityId) -> (u64, u64) {
+        (id.0, self.angle_scale.to_bits())
+    }
+
+    /// [`surface`](Self::surface), taking what [`surface_kind_of`](Self::surface_kind_of)
+    /// kept of it in the document's [`SurfaceCache`](super::SurfaceCache).
+    pub fn surface_kept(&self, id: EntityId) -> Result<SurfaceGeom> {
+        match self.doc.surface_cache.get(self.cache_key(id)).as_deref() {
+            Some(CachedSurface::Geom(g)) => Ok(g.clone()),
+            Some(CachedSurface::Net(net)) => {
+                let k = self.index(id)?;
+                let points = self.points(&net.ids)?;
+                NurbsSurface::try_new(net.degrees, net.knots.clone(), net.counts, points, net.weights.clone())
+                    .map(SurfaceGeom::Nurbs)
+                    .map_err(|e| Error::Geometry { at: self.doc.position_of(k, net.start), source: e })
+            }
+            None => self.surface(id),
+        }
+    }
+
+    /// Keeps `g`, the surface `#id`, in the document's cache.
+    pub fn keep_surface(&self, id: EntityId, g: &SurfaceGeom) {
+        self.doc.surface_cache.put(self.cache_key(id), CachedSurface::Geom(g.clone()));
+    }
+
     fn surface_inner(&self, id: EntityId) -> Result<SurfaceGeom> {
         let k = self.index(id)?;
-        let body = self.doc.body_at(k)?;
-        if matches!(body, Body::Complex(_)) || self.doc.name_of(k) == "B_SPLINE_SURFACE_WITH_KNOTS" {
+        let body = self.body(k)?;
+        if matches!(*body, Body::Complex(_)) || self.doc.name_of(k) == "B_SPLINE_SURFACE_WITH_KNOTS" {
             return self.bspline_surface(k, body).map(SurfaceGeom::Nurbs);
         }
         let r = Rec::new(self.doc, k, body)?;
@@ -468,7 +492,7 @@ impl<'a> Ctx<'a> {
     }
 
     /// `B_SPLINE_SURFACE_WITH_KNOTS` (simple) or the rational complex form.
-    pub fn bspline_surface(&self, k: usize, body: Body<'_>) -> Result<NurbsSurface> {
+    pub fn bspline_surface(&self, k: usize, body: Rc<Body<'a>>) -> Result<NurbsSurface> {
         let (net, head) = self.bspline_net(k, body)?;
         let points = self.points(&net.ids)?;
         NurbsSurface::try_new(net.degrees, net.knots, net.counts, points, net.weights).map_err(|e| head.geometry(e))
@@ -480,7 +504,7 @@ impl<'a> Ctx<'a> {
     /// checks it, each reference checked to name a `CARTESIAN_POINT` instance, but the points'
     /// coordinates not read (that is the bulk of a large surface's reading, done again
     /// when the face is converted).
-    pub fn bspline_surface_kind(&self, k: usize, body: Body<'_>) -> Result<SurfaceKind> {
+    pub fn bspline_surface_kind(&self, k: usize, body: Rc<Body<'a>>) -> Result<SurfaceKind> {
         let (net, head) = self.bspline_net(k, body)?;
         for (n, id) in net.ids.iter().enumerate() {
             let j = self.index(*id)?;
@@ -495,8 +519,9 @@ impl<'a> Ctx<'a> {
         }
         let rational = net.weights.is_some();
         let points = vec![Point3::origin(); net.ids.len()];
-        let s = NurbsSurface::try_new(net.degrees, net.knots, net.counts, points, net.weights)
+        let s = NurbsSurface::try_new(net.degrees, net.knots.clone(), net.counts, points, net.weights.clone())
             .map_err(|e| head.geometry(e))?;
+        self.doc.surface_cache.put(self.cache_key(self.doc_id(k)), CachedSurface::Net(net));
         Ok(SurfaceKind::BSpline {
             u_degree: s.u_degree(),
             v_degree: s.v_degree(),
@@ -507,13 +532,10 @@ impl<'a> Ctx<'a> {
     }
 
     /// A B-spline surface's record read up to its control points: their references.
-    fn bspline_net<'b>(&self, k: usize, body: Body<'b>) -> Result<(BSplineNet, Rec<'b>)>
-    where
-        'a: 'b,
-    {
-        let (head, knots_rec, weights) = match body {
-            Body::Simple(rec) => {
-                let r = Rec::from_record(self.doc, k, rec);
+    fn bspline_net(&self, k: usize, body: Rc<Body<'a>>) -> Result<(BSplineNet, Rec<'a>)> {
+        let (head, knots_rec, weights) = match &*body {
+            Body::Simple(_) => {
+                let r = Rec::new(self.doc, k, Rc::clone(&body))?;
                 if r.name() != "B_SPLINE_SURFACE_WITH_KNOTS" {
                     return Err(Error::UnexpectedEntity {
                         at: self.doc.position_of(k, 0),
@@ -529,9 +551,8 @@ impl<'a> Ctx<'a> {
                 b.arity(7)?;
                 let kn = self.leaf(k, &body, "B_SPLINE_SURFACE_WITH_KNOTS")?;
                 kn.arity(5)?;
-                let w = match body.record("RATIONAL_B_SPLINE_SURFACE") {
-                    Some(rec) => {
-                        let w = Rec::from_record(self.doc, k, rec.clone());
+                let w = match Rec::leaf(self.doc, k, &body, "RATIONAL_B_SPLINE_SURFACE") {
+                    Some(w) => {
                         w.arity(1)?;
                         Some(w)
                     }
@@ -577,12 +598,25 @@ impl<'a> Ctx<'a> {
         };
         let uk = knot_vector(&knots_rec, &knots_rec.reals(2)?, &knots_rec.usizes(0)?)?;
         let vk = knot_vector(&knots_rec, &knots_rec.reals(3)?, &knots_rec.usizes(1)?)?;
-        Ok((BSplineNet { degrees: (p, q), knots: (uk, vk), counts: (n_u, n_v), ids, weights }, head))
+        let start = head.rec().start;
+        Ok((BSplineNet { start, degrees: (p, q), knots: (uk, vk), counts: (n_u, n_v), ids, weights }, head))
     }
 }
 
+/// What [`SurfaceCache`](super::SurfaceCache) keeps of a surface.
+#[derive(Debug)]
+pub(crate) enum CachedSurface {
+    /// Any surface but a B-spline one, converted.
+    Geom(SurfaceGeom),
+    /// A B-spline surface's record, checked, up to its control points.
+    Net(BSplineNet),
+}
+
 /// A B-spline surface's record read up to its control points.
-struct BSplineNet {
+#[derive(Debug, Clone)]
+pub(crate) struct BSplineNet {
+    /// Offset of the record (or leaf) holding the degrees, for errors.
+    start: usize,
     degrees: (usize, usize),
     knots: (KnotVector, KnotVector),
     counts: (usize, usize),
@@ -614,8 +648,14 @@ pub(crate) const PARALLEL_POINTS: usize = 4096;
 /// Reads `CARTESIAN_POINT ( '...' , ( x , y , z ) )` directly; `None` when the text has
 /// any other shape (then the general parser decides).
 fn fast_point(text: &[u8], body: usize) -> Option<Point3<f64>> {
+    fast_triple(text, body, b"CARTESIAN_POINT").map(Point3::from)
+}
+
+/// Reads `KEYWORD ( '...' , ( x , y , z ) )` (a `CARTESIAN_POINT` or `DIRECTION`)
+/// directly; `None` when the text has any other shape.
+fn fast_triple(text: &[u8], body: usize, keyword: &[u8]) -> Option<[f64; 3]> {
     let t = &text[body..];
-    let t = t.strip_prefix(b"CARTESIAN_POINT")?;
+    let t = t.strip_prefix(keyword)?;
     let mut i = 0;
     let ws = |t: &[u8], mut i: usize| {
         while i < t.len() && (t[i] == b' ' || t[i] == b'\n' || t[i] == b'\r' || t[i] == b'\t') {
@@ -665,7 +705,7 @@ fn fast_point(text: &[u8], body: usize) -> Option<Point3<f64>> {
         i += 1;
     }
     i = ws(t, i);
-    (t.get(i)? == &b')').then(|| Point3::from(xyz))
+    (t.get(i)? == &b')').then_some(xyz)
 }
 
 #[cfg(test)]
@@ -678,6 +718,9 @@ mod tests {
         assert_eq!(fast_point(b"#1 = CARTESIAN_POINT('',(1.,2.));", 5), None);
         assert_eq!(fast_point(b"#1 = CARTESIAN_POINT('it''s',(1.,2.,3.));", 5), None);
         assert_eq!(fast_point(b"#1 = CARTESIAN_POINT('',(1.,2.,3./**/));", 5), None);
+        assert_eq!(fast_point(b"#1 = DIRECTION('',(1.,2.,3.));", 5), None);
+        assert_eq!(fast_triple(b"#1 = DIRECTION('',(1.,2.,3.));", 5, b"DIRECTION"), Some([1.0, 2.0, 3.0]));
+        assert_eq!(fast_triple(b"#1 = DIRECTIONS('',(1.,2.,3.));", 5, b"DIRECTION"), None);
         // Every real form of ISO 10303-21 §6.3.2 reads as `str::parse` reads it.
         for x in [
             "1.",

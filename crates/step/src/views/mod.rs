@@ -7,6 +7,9 @@ mod topology;
 mod units;
 
 use std::cell::RefCell;
+use std::rc::Rc;
+
+use rustc_hash::FxHashMap;
 
 use cadmorph_nurbs::analytic::ParamMap;
 use cadmorph_nurbs::math::{Matrix4, Point3};
@@ -18,6 +21,33 @@ use crate::read::param::{Body, Param, Record, Value};
 use crate::EntityId;
 
 pub(crate) use topology::{Link, Occurrence};
+
+/// Surfaces [`Document::faces`] read to classify them, kept for the conversion that
+/// usually follows ([`Document::faces_nurbs`]): analytic surfaces whole, B-spline
+/// surfaces up to their control points' references (the points' coordinates are read
+/// when the face is converted). Keyed by instance id and the bits of the angle unit's
+/// scale the surface was read with. Emptied by every edit; a copy of the document starts
+/// empty.
+#[derive(Debug, Default)]
+pub(crate) struct SurfaceCache(std::sync::Mutex<FxHashMap<(u64, u64), std::sync::Arc<geometry::CachedSurface>>>);
+
+impl Clone for SurfaceCache {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
+impl SurfaceCache {
+    fn get(&self, key: (u64, u64)) -> Option<std::sync::Arc<geometry::CachedSurface>> {
+        self.0.lock().ok()?.get(&key).cloned()
+    }
+
+    fn put(&self, key: (u64, u64), s: geometry::CachedSurface) {
+        if let Ok(mut m) = self.0.lock() {
+            m.insert(key, std::sync::Arc::new(s));
+        }
+    }
+}
 pub use units::{LengthUnit, Units};
 
 /// Nesting of geometric references (trimmed curve of a surface curve of ...) beyond which
@@ -169,22 +199,44 @@ pub struct WorldCurve {
     pub end: Point3<f64>,
 }
 
-/// Conversion context: the document, the angle unit, and the stack of instances being
-/// resolved (for cycle detection).
+/// Conversion context: the document, the angle unit, the stack of instances being
+/// resolved (for cycle detection), and what it has read so far.
+///
+/// A context reads each edge's geometry once ([`edge_geometry`](Self::edge_geometry)):
+/// the faces of a B-rep share their edges, and one context converts them all.
 pub(crate) struct Ctx<'d> {
     pub doc: &'d Document,
     pub length_scale: f64,
     pub angle_scale: f64,
     stack: RefCell<Vec<u64>>,
+    /// Edge geometry by `EDGE_CURVE` id.
+    pub(crate) edges: RefCell<FxHashMap<u64, Rc<topology::EdgeGeometry>>>,
 }
 
 impl<'d> Ctx<'d> {
     pub fn new(doc: &'d Document, angle_scale: f64) -> Self {
-        Self { doc, length_scale: 1.0, angle_scale, stack: RefCell::new(Vec::new()) }
+        Self {
+            doc,
+            length_scale: 1.0,
+            angle_scale,
+            stack: RefCell::new(Vec::new()),
+            edges: RefCell::new(FxHashMap::default()),
+        }
     }
 
     pub fn index(&self, id: EntityId) -> Result<usize> {
         self.doc.index.get(id.0).ok_or(Error::NoSuchInstance(id))
+    }
+
+    /// The id of the instance at position `k`.
+    pub fn doc_id(&self, k: usize) -> EntityId {
+        EntityId(self.doc.instances[k].id)
+    }
+
+    /// The parsed body of the instance at position `k`. Not kept: most records are read
+    /// once, and keeping them cost more than reading the few shared ones again.
+    pub fn body(&self, k: usize) -> Result<Rc<Body<'d>>> {
+        Ok(Rc::new(self.doc.body_at(k)?))
     }
 
     /// Runs `f` with `id` on the resolution stack; a second visit is a cycle.
@@ -207,7 +259,7 @@ impl<'d> Ctx<'d> {
     /// The simple record of `#id`, which must be entity `name`.
     pub fn simple(&self, id: EntityId, name: &'static str) -> Result<Rec<'d>> {
         let k = self.index(id)?;
-        let r = Rec::new(self.doc, k, self.doc.body_at(k)?)?;
+        let r = Rec::new(self.doc, k, self.body(k)?)?;
         if r.name() != name {
             return Err(Error::UnexpectedEntity {
                 at: self.doc.position_of(k, 0),
@@ -221,7 +273,7 @@ impl<'d> Ctx<'d> {
     /// The simple record of `#id`, whatever its name.
     pub fn any(&self, id: EntityId) -> Result<Rec<'d>> {
         let k = self.index(id)?;
-        Rec::new(self.doc, k, self.doc.body_at(k)?)
+        Rec::new(self.doc, k, self.body(k)?)
     }
 }
 
@@ -232,15 +284,18 @@ pub(crate) struct Rec<'d> {
     doc: &'d Document,
     k: usize,
     /// Shared, so that a record read once can be viewed at several shifts (a subtype's
-    /// own attributes after its supertype's) without copying its parameter tree.
-    rec: std::rc::Rc<Record<'d>>,
+    /// own attributes after its supertype's), and each leaf of a complex instance on its
+    /// own, without copying its parameter tree.
+    body: Rc<Body<'d>>,
+    /// Which leaf of a complex body (0 for a simple one).
+    leaf: usize,
     shift: usize,
 }
 
 impl<'d> Rec<'d> {
-    pub fn new(doc: &'d Document, k: usize, body: Body<'d>) -> Result<Self> {
-        match body {
-            Body::Simple(rec) => Ok(Self { doc, k, rec: std::rc::Rc::new(rec), shift: 0 }),
+    pub fn new(doc: &'d Document, k: usize, body: Rc<Body<'d>>) -> Result<Self> {
+        match &*body {
+            Body::Simple(_) => Ok(Self { doc, k, body, leaf: 0, shift: 0 }),
             Body::Complex(leaves) => Err(Error::UnexpectedEntity {
                 at: doc.position_of(k, 0),
                 expected: "a simple instance",
@@ -250,7 +305,24 @@ impl<'d> Rec<'d> {
     }
 
     pub fn from_record(doc: &'d Document, k: usize, rec: Record<'d>) -> Self {
-        Self { doc, k, rec: std::rc::Rc::new(rec), shift: 0 }
+        Self { doc, k, body: Rc::new(Body::Simple(rec)), leaf: 0, shift: 0 }
+    }
+
+    /// The leaf `name` of a complex body, or the simple record if it has that name.
+    pub fn leaf(doc: &'d Document, k: usize, body: &Rc<Body<'d>>, name: &str) -> Option<Self> {
+        let leaf = match &**body {
+            Body::Simple(r) => (r.name == name).then_some(0)?,
+            Body::Complex(v) => v.iter().position(|r| r.name == name)?,
+        };
+        Some(Self { doc, k, body: Rc::clone(body), leaf, shift: 0 })
+    }
+
+    /// The record viewed.
+    pub fn rec(&self) -> &Record<'d> {
+        match &*self.body {
+            Body::Simple(r) => r,
+            Body::Complex(v) => &v[self.leaf],
+        }
     }
 
     pub fn shifted(mut self, by: usize) -> Self {
@@ -259,48 +331,48 @@ impl<'d> Rec<'d> {
     }
 
     pub fn name(&self) -> &'d str {
-        self.rec.name
+        self.rec().name
     }
 
     pub fn position(&self, i: usize) -> Position {
-        match self.rec.params.get(i + self.shift) {
+        match self.rec().params.get(i + self.shift) {
             Some(p) => self.doc.position_of(self.k, p.start),
-            None => self.doc.position_of(self.k, self.rec.start),
+            None => self.doc.position_of(self.k, self.rec().start),
         }
     }
 
     pub fn arity(&self, n: usize) -> Result<()> {
-        if self.rec.params.len() == n {
+        if self.rec().params.len() == n {
             Ok(())
         } else {
             Err(Error::Arity {
-                at: self.doc.position_of(self.k, self.rec.start),
-                entity: self.rec.name.to_owned(),
+                at: self.doc.position_of(self.k, self.rec().start),
+                entity: self.rec().name.to_owned(),
                 expected: n,
-                found: self.rec.params.len(),
+                found: self.rec().params.len(),
             })
         }
     }
 
     pub fn param(&self, i: usize) -> Result<&Param<'d>> {
-        self.rec.params.get(i + self.shift).ok_or_else(|| self.err(i, "a parameter"))
+        self.rec().params.get(i + self.shift).ok_or_else(|| self.err(i, "a parameter"))
     }
 
     pub fn err(&self, i: usize, expected: &'static str) -> Error {
-        Error::Parameter { at: self.position(i), entity: self.rec.name.to_owned(), index: i + self.shift, expected }
+        Error::Parameter { at: self.position(i), entity: self.rec().name.to_owned(), index: i + self.shift, expected }
     }
 
     pub fn err_at(&self, p: &Param<'_>, i: usize, expected: &'static str) -> Error {
         Error::Parameter {
             at: self.doc.position_of(self.k, p.start),
-            entity: self.rec.name.to_owned(),
+            entity: self.rec().name.to_owned(),
             index: i + self.shift,
             expected,
         }
     }
 
     pub fn geometry(&self, source: cadmorph_nurbs::Error) -> Error {
-        Error::Geometry { at: self.doc.position_of(self.k, self.rec.start), source }
+        Error::Geometry { at: self.doc.position_of(self.k, self.rec().start), source }
     }
 
     pub fn real(&self, i: usize) -> Result<f64> {
@@ -320,7 +392,7 @@ impl<'d> Rec<'d> {
     }
 
     pub fn is_unset(&self, i: usize) -> bool {
-        matches!(self.rec.params.get(i + self.shift).map(|p| &p.value), Some(Value::Unset) | None)
+        matches!(self.rec().params.get(i + self.shift).map(|p| &p.value), Some(Value::Unset) | None)
     }
 
     pub fn usize_at(&self, i: usize) -> Result<usize> {

@@ -137,7 +137,7 @@ impl Ctx<'_> {
             let id = EntityId(inst.id);
             if !inst.complex && is_shape_rep(name) {
                 let r = self.any(id)?;
-                if r.rec.params.len() != 3 || r.param(1)?.as_list().is_none() {
+                if r.rec().params.len() != 3 || r.param(1)?.as_list().is_none() {
                     continue;
                 }
                 let scale = match r.param(2)?.as_ref_id() {
@@ -489,11 +489,13 @@ impl Ctx<'_> {
     /// As [`surface`](Self::surface), for what it reads.
     pub fn surface_kind_of(&self, id: EntityId) -> Result<SurfaceKind> {
         let k = self.index(id)?;
-        let body = self.doc.body_at(k)?;
-        if matches!(body, Body::Complex(_)) || self.doc.name_bytes(k) == b"B_SPLINE_SURFACE_WITH_KNOTS" {
+        let body = self.body(k)?;
+        if matches!(*body, Body::Complex(_)) || self.doc.name_bytes(k) == b"B_SPLINE_SURFACE_WITH_KNOTS" {
             return self.bspline_surface_kind(k, body);
         }
-        self.surface(id).map(|g| self.surface_kind(&g))
+        let g = self.surface(id)?;
+        self.keep_surface(id, &g);
+        Ok(self.surface_kind(&g))
     }
 
     pub fn surface_kind(&self, g: &SurfaceGeom) -> SurfaceKind {
@@ -623,12 +625,20 @@ impl Document {
         for &s in &slots {
             uses[s] += 1;
         }
-        let local = |&i: &usize| Some(self.face_local(&faces[i]));
+        // One context per thread: faces share edges, vertices and placements, read once.
+        // (Without one, e.g. unreadable units, each face reports the error itself.)
+        let local = |ctx: &mut Option<(Ctx<'_>, super::Units)>, &i: &usize| {
+            Some(match ctx {
+                Some((ctx, _)) => self.face_local_in(ctx, &faces[i]),
+                None => self.face_local(&faces[i]),
+            })
+        };
         let mut converted: Vec<Option<Result<WorldSurface>>> = if unique.len() >= PARALLEL_FACES {
             use rayon::prelude::*;
-            unique.par_iter().with_min_len(4).map(local).collect()
+            unique.par_iter().with_min_len(4).map_init(|| self.ctx().ok(), local).collect()
         } else {
-            unique.iter().map(local).collect()
+            let mut ctx = self.ctx().ok();
+            unique.iter().map(|i| local(&mut ctx, i)).collect()
         };
         faces
             .iter()
@@ -666,7 +676,12 @@ impl Document {
     /// ([`Face::transform`]) is applied.
     fn face_local(&self, face: &Face) -> Result<WorldSurface> {
         let (ctx, _) = self.ctx()?;
-        let g = ctx.surface(face.surface)?;
+        self.face_local_in(&ctx, face)
+    }
+
+    /// [`face_local`](Self::face_local) in a context that may have read other faces.
+    fn face_local_in(&self, ctx: &Ctx<'_>, face: &Face) -> Result<WorldSurface> {
+        let g = ctx.surface_kept(face.surface)?;
         let (u, v) = match &g {
             SurfaceGeom::Nurbs(s) => {
                 let (du, dv) = cadmorph_nurbs::Surface::domain(s);
@@ -734,7 +749,8 @@ impl Document {
     /// The curve's errors; [`Error::Geometry`] for an empty range.
     pub fn edge_curve(&self, edge: &Edge) -> Result<WorldCurve> {
         let (ctx, _) = self.ctx()?;
-        let (c, t0, t1, p0, p1) = ctx.edge_geometry(edge.id)?;
+        let g = ctx.edge_geometry(edge.id)?;
+        let (c, t0, t1, p0, p1) = (&g.0, g.1, g.2, g.3, g.4);
         let (mut curve, map) =
             c.to_nurbs(t0, t1).map_err(|e| Error::Geometry { at: self.position_of_id(edge.curve), source: e })?;
         curve.transform_by(&edge.transform);
@@ -762,7 +778,7 @@ impl Document {
     pub fn bspline_surface(&self, id: EntityId) -> Result<cadmorph_nurbs::NurbsSurface> {
         let ctx = Ctx::new(self, 1.0);
         let k = ctx.index(id)?;
-        ctx.bspline_surface(k, self.body_at(k)?)
+        ctx.bspline_surface(k, ctx.body(k)?)
     }
 
     /// The B-spline curve `#id` (simple or rational complex form) over its whole domain,
@@ -880,8 +896,17 @@ impl Ctx<'_> {
     }
 
     /// An edge's curve, its parameter range along the curve's direction, and its vertex
-    /// points (local coordinates).
-    pub fn edge_geometry(&self, e: EntityId) -> Result<EdgeGeometry> {
+    /// points (local coordinates); read once per context (an edge bounds two faces).
+    pub fn edge_geometry(&self, e: EntityId) -> Result<std::rc::Rc<EdgeGeometry>> {
+        if let Some(g) = self.edges.borrow().get(&e.0) {
+            return Ok(std::rc::Rc::clone(g));
+        }
+        let g = std::rc::Rc::new(self.read_edge_geometry(e)?);
+        self.edges.borrow_mut().insert(e.0, std::rc::Rc::clone(&g));
+        Ok(g)
+    }
+
+    fn read_edge_geometry(&self, e: EntityId) -> Result<EdgeGeometry> {
         let r = self.simple(e, "EDGE_CURVE")?;
         r.arity(5)?;
         let vp = |v: EntityId| -> Result<Point3<f64>> {

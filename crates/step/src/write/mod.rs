@@ -121,7 +121,7 @@ impl Document {
         old.complex = inst.complex;
         self.texts.insert(k, text);
         self.pristine.remove(&k);
-        self.units_cache = std::sync::OnceLock::new();
+        self.views_changed();
         Ok(())
     }
 
@@ -165,7 +165,7 @@ impl Document {
         self.instances.push(inst);
         self.index.insert(id, k);
         self.texts.insert(k, text);
-        self.units_cache = std::sync::OnceLock::new();
+        self.views_changed();
         self.max_id = id;
         Ok(EntityId(id))
     }
