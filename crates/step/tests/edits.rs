@@ -272,3 +272,43 @@ fn new_document_round_trips() {
     assert_eq!(shared, 2);
     assert_eq!(doc.units().unwrap().uncertainty, Some(1e-7));
 }
+
+/// What `faces` keeps of each surface for `faces_nurbs` is dropped by an edit: a plane's
+/// location moved after `faces` moves the plane's NURBS, and a B-spline surface's weights
+/// set after `faces` are the NURBS's weights.
+#[test]
+fn edits_after_faces_are_seen_by_the_conversion() {
+    let ref_of = |doc: &Document, id: EntityId, i: usize| -> EntityId {
+        let body = doc.get(id).unwrap().body().unwrap();
+        body.first().unwrap().params[i].as_ref_id().unwrap()
+    };
+    let (_, mut doc) = load("mixed_solid.stp");
+    let faces = doc.faces().unwrap();
+    let plane = faces.iter().position(|f| f.kind == SurfaceKind::Plane).unwrap();
+    let before = doc.faces_nurbs(&faces)[plane].clone().unwrap();
+    let location = ref_of(&doc, ref_of(&doc, faces[plane].surface, 1), 1);
+    let p = doc.point(location).unwrap();
+    let faces_again = doc.faces().unwrap();
+    // Moved by (1, 1, 1): the plane moves by that move's part along its normal.
+    let cp = before.surface.control_points();
+    let (n_u, n_v) = (before.surface.n_u(), before.surface.n_v());
+    let normal = (cp[(n_u - 1) * n_v] - cp[0]).cross(&(cp[n_v - 1] - cp[0])).normalize();
+    let shift = normal * normal.dot(&Vector3::new(1.0, 1.0, 1.0));
+    assert!(shift.norm() > 0.5);
+    doc.set_point(location, p + Vector3::new(1.0, 1.0, 1.0)).unwrap();
+    let after = doc.faces_nurbs(&faces_again)[plane].clone().unwrap();
+    for (a, b) in cp.iter().zip(after.surface.control_points()) {
+        assert!((b - a - shift).norm() < 1e-12, "{a} -> {b}");
+    }
+
+    let (_, mut doc) = load("blade.stp");
+    let faces = doc.faces().unwrap();
+    let w0 = doc.faces_nurbs(&faces)[0].clone().unwrap();
+    let n = w0.surface.control_points().len();
+    let weights: Vec<f64> = (0..n).map(|i| 1.0 + 0.25 * (i % 3) as f64).collect();
+    let faces_again = doc.faces().unwrap();
+    doc.set_weights(faces_again[0].surface, &weights).unwrap();
+    let w1 = doc.faces_nurbs(&faces_again)[0].clone().unwrap();
+    assert_eq!(w1.surface.weights().unwrap(), &weights[..]);
+    assert_ne!(w0.surface.weights(), w1.surface.weights());
+}
