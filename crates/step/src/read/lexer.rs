@@ -74,8 +74,22 @@ fn run(s: &[u8], mut i: usize, f: impl Fn(u8) -> bool) -> usize {
     i
 }
 
+/// Bytes of a name after its first: `A-Z a-z 0-9 _`, as a table (one load per byte
+/// where the range tests took several compares; names are most of an instance's header).
+const NAME: [bool; 256] = {
+    let mut t = [false; 256];
+    let mut c = 0;
+    while c < 256 {
+        let b = c as u8;
+        t[c] = b.is_ascii_alphanumeric() || b == b'_';
+        c += 1;
+    }
+    t
+};
+
+#[inline(always)]
 fn is_name(c: u8) -> bool {
-    c.is_ascii_alphanumeric() || c == b'_'
+    NAME[c as usize]
 }
 
 /// `[!]letter{letter|digit|_}` (a keyword; `_` counts as a letter): the end, if one
