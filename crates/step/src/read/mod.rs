@@ -209,12 +209,14 @@ impl<'a> Reader<'a> {
 #[cfg(test)]
 thread_local! {
     /// Tests only: every parameter read through tokens, the fast forms of
-    /// [`Reader::params`] off (the reference they are checked against).
+    /// [`Reader::params`] and of the views' [`param::parse_body`] off (the reference
+    /// they are checked against).
     static TOKENS_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
-/// Whether [`Reader::params`] may read parameters, commas and parentheses without
-/// tokens (always, but in the tests that compare it with the token reading).
+/// Whether [`Reader::params`] and [`param::parse_body`] may read parameters, commas and
+/// parentheses without tokens (always, but in the tests that compare it with the token
+/// reading).
 fn fast_forms() -> bool {
     #[cfg(test)]
     return !TOKENS_ONLY.with(std::cell::Cell::get);
@@ -703,6 +705,35 @@ mod tests {
             let fast = format!("{:?}", scan_instance_at(text.as_bytes()));
             TOKENS_ONLY.with(|c| c.set(true));
             let tokens = format!("{:?}", scan_instance_at(text.as_bytes()));
+            TOKENS_ONLY.with(|c| c.set(false));
+            proptest::prop_assert_eq!(fast, tokens, "{}", text);
+        }
+
+        /// The views' parameter reading ([`param::parse_body`]) reads references,
+        /// numbers, commas and parentheses without tokens where nothing stands between
+        /// them, and gives what the token reading gives: the same values at the same
+        /// offsets, or the same error offset. Well-formed lists, and the same with a
+        /// stray piece put somewhere.
+        #[test]
+        fn fast_parameter_forms_parse_as_tokens(
+            seed in proptest::prelude::any::<u64>(),
+            stray in proptest::option::of((proptest::prelude::any::<proptest::sample::Index>(), proptest::sample::select(vec![
+                "#99999999999999999999999", "#", "1.E", "12AB", "-", ",", ")", "(", ",)", "#3#4", "1..2", "()", "( )",
+                "99999999999999999999", "-0", "@5",
+            ]))),
+        ) {
+            let mut body = String::new();
+            parameter_text(&mut seed.clone(), 0, &mut body);
+            if let Some((at, piece)) = stray {
+                let at = at.index(body.len() + 1);
+                if body.is_char_boundary(at) {
+                    body.insert_str(at, piece);
+                }
+            }
+            let text = format!("A({body})");
+            let fast = format!("{:?}", param::parse_body(text.as_bytes(), 7));
+            TOKENS_ONLY.with(|c| c.set(true));
+            let tokens = format!("{:?}", param::parse_body(text.as_bytes(), 7));
             TOKENS_ONLY.with(|c| c.set(false));
             proptest::prop_assert_eq!(fast, tokens, "{}", text);
         }

@@ -1,6 +1,6 @@
 //! Typed parameters of a record, parsed on demand from an instance's text.
 
-use super::lexer::{reference_id, Kind, Lexer, Token};
+use super::lexer::{number_end, reference_end, reference_id, Kind, Lexer, Token};
 use crate::EntityId;
 
 /// Deepest nesting of lists and typed parameters the reader accepts (real files use 4).
@@ -147,21 +147,72 @@ impl<'a> P<'a> {
 
     fn params(&mut self, depth: usize) -> Result<Vec<Param<'a>>, usize> {
         // After `(`.
-        let mut tok = self.next()?;
-        if tok.kind == Kind::Close {
+        let fast = super::fast_forms();
+        if fast && self.lx.src.get(self.lx.pos) == Some(&b')') {
+            self.lx.pos += 1;
             return Ok(Vec::new());
         }
         let from = self.stack.len();
+        let mut first = true;
         loop {
-            let p = self.param(tok, depth)?;
+            let p = match if fast { self.fast_value() } else { None } {
+                Some(p) => p,
+                None => {
+                    let tok = self.next()?;
+                    if first && tok.kind == Kind::Close {
+                        return Ok(Vec::new());
+                    }
+                    self.param(tok, depth)?
+                }
+            };
+            first = false;
             self.stack.push(p);
-            tok = self.next()?;
+            // A comma or `)` right after the value, read without a token.
+            match if fast { self.lx.src.get(self.lx.pos).copied() } else { None } {
+                Some(b',') => {
+                    self.lx.pos += 1;
+                    continue;
+                }
+                Some(b')') => {
+                    self.lx.pos += 1;
+                    return Ok(self.stack.drain(from..).collect());
+                }
+                _ => {}
+            }
+            let tok = self.next()?;
             match tok.kind {
-                Kind::Comma => tok = self.next()?,
+                Kind::Comma => {}
                 Kind::Close => return Ok(self.stack.drain(from..).collect()),
                 _ => return Err(tok.start + self.base),
             }
         }
+    }
+
+    /// A reference or number that starts right at the cursor (no blank or comment
+    /// before it), read from its bytes without a token: what [`param`](Self::param) reads
+    /// of the same text. `None` for anything else, and for what `param` would refuse
+    /// (then it reads it, and reports it).
+    #[inline]
+    fn fast_value(&mut self) -> Option<Param<'a>> {
+        let (s, p) = (self.lx.src, self.lx.pos);
+        let (value, end) = match *s.get(p)? {
+            b'#' => {
+                let e = reference_end(s, p)?;
+                (Value::Reference(EntityId(reference_id(&s[p..e])?)), e)
+            }
+            b'+' | b'-' | b'0'..=b'9' => {
+                let (e, is_real) = number_end(s, p)?;
+                let t = &s[p..e];
+                let integer = if is_real { None } else { std::str::from_utf8(t).ok()?.parse::<i64>().ok() };
+                match integer {
+                    Some(i) => (Value::Integer(i), e),
+                    None => (Value::Real(real(t)?), e),
+                }
+            }
+            _ => return None,
+        };
+        self.lx.pos = end;
+        Some(Param { value, start: p + self.base, end: end + self.base })
     }
 
     fn param(&mut self, tok: Token, depth: usize) -> Result<Param<'a>, usize> {
