@@ -93,7 +93,22 @@ impl CurveGeom {
                 let d = p - frame.origin();
                 (d.dot(&frame.y_dir()) / b).atan2(d.dot(&frame.x_dir()) / a)
             }
-            CurveGeom::Nurbs(c) | CurveGeom::Polyline(c) => c.project(p, tol).t,
+            CurveGeom::Nurbs(c) | CurveGeom::Polyline(c) => {
+                // A vertex at an end of an open curve, where writers put them: that end,
+                // without a search (a closed curve's ends are one point: searched).
+                let d = c.domain();
+                let (a, b) = (*d.start(), *d.end());
+                let (pa, pb) = (c.eval(a), c.eval(b));
+                if (pa - pb).norm() > 2.0 * tol {
+                    if (pa - p).norm() <= tol {
+                        return a;
+                    }
+                    if (pb - p).norm() <= tol {
+                        return b;
+                    }
+                }
+                c.project(p, tol).t
+            }
             CurveGeom::Trimmed { basis, .. } => basis.param_of(p, tol),
         }
     }

@@ -20,6 +20,9 @@ use crate::EntityId;
 /// the time.
 pub(crate) const PARALLEL_FACES: usize = 64;
 
+/// A face's surface, its `same_sense`, and its bounds `(bound, loop, orientation)`.
+type FaceRecord = (EntityId, bool, Vec<(EntityId, EntityId, bool)>);
+
 /// An edge's curve, range `[t0, t1]` along it, and its start and end points.
 pub(crate) type EdgeGeometry = (super::geometry::CurveGeom, f64, f64, Point3<f64>, Point3<f64>);
 
@@ -547,25 +550,20 @@ impl Document {
         let mut out = Vec::new();
         let mut kinds: HashMap<u64, SurfaceKind> = HashMap::new();
         let mut occurrences_of: HashMap<u64, usize> = HashMap::new();
+        let mut read: HashMap<u64, FaceRecord> = HashMap::new();
         for occ in ctx.occurrences(units.length.metres)? {
             for (fid, orient) in ctx.run_faces(&occ)? {
-                let r = ctx.any(fid)?;
-                r.arity(4)?;
-                let surface = r.reference(2)?;
-                let same_sense = r.bool(3)? == orient;
-                let mut bounds = Vec::new();
-                for b in r.refs(1)? {
-                    let br = ctx.any(b)?;
-                    if !matches!(br.name(), "FACE_BOUND" | "FACE_OUTER_BOUND") {
-                        return Err(Error::UnexpectedEntity {
-                            at: self.position_of_id(b),
-                            expected: "FACE_BOUND or FACE_OUTER_BOUND",
-                            found: br.name().to_owned(),
-                        });
+                // A face placed several times (assembly occurrences, mapped items) is read
+                // once.
+                let (surface, face_sense, bounds) = match read.get(&fid.0) {
+                    Some(f) => f.clone(),
+                    None => {
+                        let f = self.face_record(&ctx, fid)?;
+                        read.insert(fid.0, f.clone());
+                        f
                     }
-                    br.arity(3)?;
-                    bounds.push((b, br.reference(1)?, br.bool(2)?));
-                }
+                };
+                let same_sense = face_sense == orient;
                 let kind = match kinds.get(&surface.0) {
                     Some(k) => k.clone(),
                     None => {
@@ -693,6 +691,28 @@ impl Document {
         let exact =
             g.to_nurbs(u, v).map_err(|e| Error::Geometry { at: self.position_of_id(face.surface), source: e })?;
         Ok(WorldSurface { surface: exact.surface, u_map: exact.u_map, v_map: exact.v_map, u_range: u, v_range: v })
+    }
+
+    /// A face's record: its surface, its own sense, and its bounds.
+    fn face_record(&self, ctx: &Ctx<'_>, fid: EntityId) -> Result<FaceRecord> {
+        let r = ctx.any(fid)?;
+        r.arity(4)?;
+        let surface = r.reference(2)?;
+        let sense = r.bool(3)?;
+        let mut bounds = Vec::new();
+        for b in r.refs(1)? {
+            let br = ctx.any(b)?;
+            if !matches!(br.name(), "FACE_BOUND" | "FACE_OUTER_BOUND") {
+                return Err(Error::UnexpectedEntity {
+                    at: self.position_of_id(b),
+                    expected: "FACE_BOUND or FACE_OUTER_BOUND",
+                    found: br.name().to_owned(),
+                });
+            }
+            br.arity(3)?;
+            bounds.push((b, br.reference(1)?, br.bool(2)?));
+        }
+        Ok((surface, sense, bounds))
     }
 
     /// [`faces`](Self::faces) and [`face_nurbs`](Self::face_nurbs) of each, in order.
