@@ -67,6 +67,7 @@ pub(crate) struct Lexer<'a> {
 }
 
 /// The end of the run of bytes from `i` that satisfy `f`.
+#[inline]
 fn run(s: &[u8], mut i: usize, f: impl Fn(u8) -> bool) -> usize {
     while i < s.len() && f(s[i]) {
         i += 1;
@@ -115,6 +116,7 @@ fn is_name(c: u8) -> bool {
 
 /// `[!]letter{letter|digit|_}` (a keyword; `_` counts as a letter): the end, if one
 /// starts at `i`.
+#[inline]
 fn keyword_end(s: &[u8], i: usize) -> Option<usize> {
     let i = if s.get(i) == Some(&b'!') { i + 1 } else { i };
     match s.get(i) {
@@ -125,6 +127,7 @@ fn keyword_end(s: &[u8], i: usize) -> Option<usize> {
 
 /// `[+-]digits[.digits][E[+-]digits]` from `i`: the end and whether a `.` or an exponent
 /// made it real. An `E` not followed by digits is not part of the number.
+#[inline]
 pub(crate) fn number_end(s: &[u8], i: usize) -> Option<(usize, bool)> {
     let digits = digits_end(s, if matches!(s.get(i), Some(b'+' | b'-')) { i + 1 } else { i });
     if digits == i || !s[digits - 1].is_ascii_digit() {
@@ -147,12 +150,14 @@ pub(crate) fn number_end(s: &[u8], i: usize) -> Option<(usize, bool)> {
 }
 
 /// `.NAME.` from `i` (at the first `.`): the end.
+#[inline]
 fn enumeration_end(s: &[u8], i: usize) -> Option<usize> {
     let name = run(s, i + 1, is_name);
     (name > i + 1 && s.get(name) == Some(&b'.')).then_some(name + 1)
 }
 
 /// `#digits` or `@digits` from `i` (at the `#` or `@`): the end.
+#[inline]
 pub(crate) fn reference_end(s: &[u8], i: usize) -> Option<usize> {
     let end = digits_end(s, i + 1);
     (end > i + 1).then_some(end)
@@ -164,6 +169,7 @@ impl<'a> Lexer<'a> {
     }
 
     /// Skips blanks, line breaks and comments.
+    #[inline]
     pub fn skip_space(&mut self) -> Result<(), LexError> {
         let s = self.src;
         loop {
@@ -201,6 +207,7 @@ impl<'a> Lexer<'a> {
     }
 
     /// The next token.
+    #[inline]
     pub fn next_token(&mut self) -> Result<Token, LexError> {
         self.skip_space()?;
         let s = self.src;
@@ -261,6 +268,7 @@ impl<'a> Lexer<'a> {
 }
 
 /// Parses the digits of a reference token (`#123`) into an id; `None` when it overflows.
+#[inline]
 pub(crate) fn reference_id(tok: &[u8]) -> Option<u64> {
     let mut v: u64 = 0;
     for &c in &tok[1..] {
