@@ -170,11 +170,7 @@ impl NurbsSurface {
         control_points: Vec<Point3<f64>>,
         weights: Option<Vec<f64>>,
     ) -> Result<Self> {
-        if n_u.checked_mul(n_v) != Some(control_points.len()) {
-            return Err(Error::NetSize { n_u, n_v, found: control_points.len() });
-        }
-        u_knots.check_for(u_degree, n_u, "u: ")?;
-        v_knots.check_for(v_degree, n_v, "v: ")?;
+        Self::check_net((u_degree, v_degree), (&u_knots, &v_knots), (n_u, n_v), control_points.len(), None)?;
         check_points(&control_points)?;
         if let Some(w) = &weights {
             check_weights(w, control_points.len(), true)?;
@@ -183,6 +179,33 @@ impl NurbsSurface {
         let v_inv = inverse_denominators(v_knots.as_slice(), v_degree);
         let infinite = has_zero_weight(weights.as_deref());
         Ok(Self { u_degree, v_degree, u_knots, v_knots, n_u, n_v, control_points, weights, u_inv, v_inv, infinite })
+    }
+
+    /// The checks of [`try_new`](Self::try_new) that do not need the control points'
+    /// coordinates (`try_new` checks the coordinates before the weights): a net of `n_points` points is `n_u × n_v`, the knot
+    /// vectors fit the degrees and counts, the weights are as many and valid. For a
+    /// reader that lists a file's surfaces before reading their points (the STEP
+    /// reader's faces).
+    ///
+    /// # Errors
+    ///
+    /// As [`try_new`](Self::try_new), but for non-finite coordinates.
+    pub fn check_net(
+        (u_degree, v_degree): (usize, usize),
+        (u_knots, v_knots): (&KnotVector, &KnotVector),
+        (n_u, n_v): (usize, usize),
+        n_points: usize,
+        weights: Option<&[f64]>,
+    ) -> Result<()> {
+        if n_u.checked_mul(n_v) != Some(n_points) {
+            return Err(Error::NetSize { n_u, n_v, found: n_points });
+        }
+        u_knots.check_for(u_degree, n_u, "u: ")?;
+        v_knots.check_for(v_degree, n_v, "v: ")?;
+        if let Some(w) = weights {
+            check_weights(w, n_points, true)?;
+        }
+        Ok(())
     }
 
     /// Like [`try_new`](Self::try_new).

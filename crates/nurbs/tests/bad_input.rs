@@ -144,3 +144,27 @@ proptest! {
         }
     }
 }
+
+/// `NurbsSurface::check_net` (a net checked before its points are read) refuses what
+/// `try_new` refuses for the same degrees, knots, counts and weights, with the same error,
+/// and accepts what it accepts.
+#[test]
+fn checking_a_net_without_its_points_agrees_with_building_it() {
+    let k = |p: usize, n: usize| KnotVector::clamped_uniform(p, n);
+    type Case = ((usize, usize), (KnotVector, KnotVector), (usize, usize), usize, Option<Vec<f64>>);
+    let cases: Vec<Case> = vec![
+        ((1, 1), (k(1, 2), k(1, 2)), (2, 2), 4, None),
+        ((1, 1), (k(1, 2), k(1, 2)), (2, 2), 3, None),
+        ((1, 1), (k(1, 2), k(1, 3)), (2, 2), 4, None),
+        ((0, 1), (k(1, 2), k(1, 2)), (2, 2), 4, None),
+        ((3, 2), (k(3, 4), k(2, 5)), (4, 5), 20, Some(vec![1.0; 20])),
+        ((3, 2), (k(3, 4), k(2, 5)), (4, 5), 20, Some(vec![1.0; 19])),
+        ((3, 2), (k(3, 4), k(2, 5)), (4, 5), 20, Some([vec![1.0; 19], vec![-1.0]].concat())),
+        ((3, 2), (k(3, 4), k(2, 5)), (4, 5), 20, Some([vec![1.0; 19], vec![0.0]].concat())),
+    ];
+    for (n, (degrees, knots, counts, points, weights)) in cases.into_iter().enumerate() {
+        let checked = NurbsSurface::check_net(degrees, (&knots.0, &knots.1), counts, points, weights.as_deref());
+        let built = NurbsSurface::try_new(degrees, knots, counts, pts(points), weights).map(|_| ());
+        assert_eq!(checked, built, "case {n}");
+    }
+}

@@ -533,17 +533,23 @@ impl<'a> Ctx<'a> {
             }
         }
         let rational = net.weights.is_some();
-        let points = vec![Point3::origin(); net.ids.len()];
-        let s = NurbsSurface::try_new(net.degrees, net.knots.clone(), net.counts, points, net.weights.clone())
-            .map_err(|e| head.geometry(e))?;
-        self.doc.surface_cache.put(self.cache_key(self.doc_id(k)), CachedSurface::Net(net));
-        Ok(SurfaceKind::BSpline {
-            u_degree: s.u_degree(),
-            v_degree: s.v_degree(),
-            n_u: s.n_u(),
-            n_v: s.n_v(),
+        NurbsSurface::check_net(
+            net.degrees,
+            (&net.knots.0, &net.knots.1),
+            net.counts,
+            net.ids.len(),
+            net.weights.as_deref(),
+        )
+        .map_err(|e| head.geometry(e))?;
+        let kind = SurfaceKind::BSpline {
+            u_degree: net.degrees.0,
+            v_degree: net.degrees.1,
+            n_u: net.counts.0,
+            n_v: net.counts.1,
             rational,
-        })
+        };
+        self.doc.surface_cache.put(self.cache_key(self.doc_id(k)), CachedSurface::Net(net));
+        Ok(kind)
     }
 
     /// A B-spline surface's record read up to its control points: their references.
