@@ -681,6 +681,28 @@ mod tests {
         }
     }
 
+    /// [`parameter_text`] of `seed` with `stray` (if any) put at its index.
+    fn with_stray(seed: u64, stray: Option<(proptest::sample::Index, &str)>) -> String {
+        let mut body = String::new();
+        parameter_text(&mut seed.clone(), 0, &mut body);
+        if let Some((at, piece)) = stray {
+            let at = at.index(body.len() + 1);
+            if body.is_char_boundary(at) {
+                body.insert_str(at, piece);
+            }
+        }
+        body
+    }
+
+    /// What `read` gives with the fast forms, and with tokens only.
+    fn both_ways(read: impl Fn() -> String) -> (String, String) {
+        let fast = read();
+        TOKENS_ONLY.with(|c| c.set(true));
+        let tokens = read();
+        TOKENS_ONLY.with(|c| c.set(false));
+        (fast, tokens)
+    }
+
     proptest::proptest! {
         /// Parameters, commas and parentheses read without tokens (where nothing stands
         /// between them) give what the token reading gives: the same references at the same offsets,
@@ -693,19 +715,8 @@ mod tests {
                 "#99999999999999999999999", "#", "1.E", "12AB", "-", ",", ")", "(", ",)", "#3#4", "1..2",
             ]))),
         ) {
-            let mut body = String::new();
-            parameter_text(&mut seed.clone(), 0, &mut body);
-            if let Some((at, piece)) = stray {
-                let at = at.index(body.len() + 1);
-                if body.is_char_boundary(at) {
-                    body.insert_str(at, piece);
-                }
-            }
-            let text = format!("#1=A({body});");
-            let fast = format!("{:?}", scan_instance_at(text.as_bytes()));
-            TOKENS_ONLY.with(|c| c.set(true));
-            let tokens = format!("{:?}", scan_instance_at(text.as_bytes()));
-            TOKENS_ONLY.with(|c| c.set(false));
+            let text = format!("#1=A({});", with_stray(seed, stray));
+            let (fast, tokens) = both_ways(|| format!("{:?}", scan_instance_at(text.as_bytes())));
             proptest::prop_assert_eq!(fast, tokens, "{}", text);
         }
 
@@ -722,19 +733,8 @@ mod tests {
                 "99999999999999999999", "-0", "@5",
             ]))),
         ) {
-            let mut body = String::new();
-            parameter_text(&mut seed.clone(), 0, &mut body);
-            if let Some((at, piece)) = stray {
-                let at = at.index(body.len() + 1);
-                if body.is_char_boundary(at) {
-                    body.insert_str(at, piece);
-                }
-            }
-            let text = format!("A({body})");
-            let fast = format!("{:?}", param::parse_body(text.as_bytes(), 7));
-            TOKENS_ONLY.with(|c| c.set(true));
-            let tokens = format!("{:?}", param::parse_body(text.as_bytes(), 7));
-            TOKENS_ONLY.with(|c| c.set(false));
+            let text = format!("A({})", with_stray(seed, stray));
+            let (fast, tokens) = both_ways(|| format!("{:?}", param::parse_body(text.as_bytes(), 7)));
             proptest::prop_assert_eq!(fast, tokens, "{}", text);
         }
     }
