@@ -203,7 +203,8 @@ pub struct WorldCurve {
 /// resolved (for cycle detection), and what it has read so far.
 ///
 /// A context reads each edge's geometry once ([`edge_geometry`](Self::edge_geometry)):
-/// the faces of a B-rep share their edges, and one context converts them all.
+/// the faces of a B-rep share their edges, and one context converts them all. It reads
+/// each unit once ([`unit`](Self::unit)).
 pub(crate) struct Ctx<'d> {
     pub doc: &'d Document,
     pub length_scale: f64,
@@ -211,6 +212,8 @@ pub(crate) struct Ctx<'d> {
     stack: RefCell<Vec<u64>>,
     /// Edge geometry by `EDGE_CURVE` id.
     pub(crate) edges: RefCell<FxHashMap<u64, Rc<topology::EdgeGeometry>>>,
+    /// Units by instance id.
+    pub(crate) units: RefCell<FxHashMap<u64, units::Unit>>,
 }
 
 impl<'d> Ctx<'d> {
@@ -221,6 +224,7 @@ impl<'d> Ctx<'d> {
             angle_scale,
             stack: RefCell::new(Vec::new()),
             edges: RefCell::new(FxHashMap::default()),
+            units: RefCell::new(FxHashMap::default()),
         }
     }
 

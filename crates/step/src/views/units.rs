@@ -63,13 +63,24 @@ pub(crate) enum Unit {
 }
 
 impl Ctx<'_> {
+    /// A unit instance, read once per context (a context's uncertainty names its length
+    /// unit again, and the contexts of an assembly's parts often share their units).
     pub fn unit(&self, id: EntityId) -> Result<Unit> {
+        if let Some(u) = self.units.borrow().get(&id.0) {
+            return Ok(u.clone());
+        }
+        let u = self.read_unit(id)?;
+        self.units.borrow_mut().insert(id.0, u.clone());
+        Ok(u)
+    }
+
+    fn read_unit(&self, id: EntityId) -> Result<Unit> {
         self.nested(id, || {
             let k = self.index(id)?;
             let body = self.doc.body_at(k)?;
-            let leaves = match &body {
-                Body::Complex(l) => l.clone(),
-                Body::Simple(r) => vec![r.clone()],
+            let leaves: &[crate::read::param::Record<'_>] = match &body {
+                Body::Complex(l) => l,
+                Body::Simple(r) => std::slice::from_ref(r),
             };
             let has = |n: &str| leaves.iter().any(|r| r.name == n);
             let length = has("LENGTH_UNIT");
