@@ -135,6 +135,17 @@ fn real(token: &[u8]) -> Option<f64> {
     fast_float2::parse(token).ok()
 }
 
+/// The value of a number token's bytes: an integer when it has neither `.` nor an
+/// exponent and fits 64 bits, a real otherwise (integers beyond 64 bits read as reals).
+/// `None` for bytes that are no number.
+fn number_value(t: &[u8], is_real: bool) -> Option<Value<'static>> {
+    let integer = if is_real { None } else { std::str::from_utf8(t).ok().and_then(|s| s.parse::<i64>().ok()) };
+    Some(match integer {
+        Some(i) => Value::Integer(i),
+        None => Value::Real(real(t)?),
+    })
+}
+
 fn str_of(src: &[u8], t: Token, trim: usize) -> &str {
     std::str::from_utf8(&src[t.start + trim..t.end - trim]).unwrap_or("")
 }
@@ -202,12 +213,7 @@ impl<'a> P<'a> {
             }
             b'+' | b'-' | b'0'..=b'9' => {
                 let (e, is_real) = number_end(s, p)?;
-                let t = &s[p..e];
-                let integer = if is_real { None } else { std::str::from_utf8(t).ok()?.parse::<i64>().ok() };
-                match integer {
-                    Some(i) => (Value::Integer(i), e),
-                    None => (Value::Real(real(t)?), e),
-                }
+                (number_value(&s[p..e], is_real)?, e)
             }
             _ => return None,
         };
@@ -222,11 +228,7 @@ impl<'a> P<'a> {
             return Err(at);
         }
         let value = match tok.kind {
-            Kind::Integer => match str_of(src, tok, 0).parse::<i64>() {
-                Ok(i) => Value::Integer(i),
-                Err(_) => Value::Real(real(&src[tok.start..tok.end]).ok_or(at)?),
-            },
-            Kind::Real => Value::Real(real(&src[tok.start..tok.end]).ok_or(at)?),
+            Kind::Integer | Kind::Real => number_value(&src[tok.start..tok.end], tok.kind == Kind::Real).ok_or(at)?,
             Kind::String => Value::String(str_of(src, tok, 1)),
             Kind::Binary => Value::Binary(str_of(src, tok, 1)),
             Kind::Enumeration => Value::Enumeration(str_of(src, tok, 1)),

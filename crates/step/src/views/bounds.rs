@@ -535,7 +535,7 @@ mod tests {
         let cases: [Case<'_>; 5] = [
             (&|t: f64| -(t - 0.3) * (t - 0.3), 0.0, 1.0, 0.3),
             (&|t: f64| t.sin(), 0.0, 3.0, std::f64::consts::FRAC_PI_2),
-            (&|t: f64| (2.0 * t).cos() + 0.1 * t, 2.0, 4.0, 3.0 * std::f64::consts::FRAC_PI_2 / 1.5 + 0.025),
+            (&|t: f64| (2.0 * t).cos() + 0.1 * t, 2.0, 4.0, std::f64::consts::PI + 0.025),
             (&|t: f64| t, 0.0, 2.0, 2.0),
             (&|t: f64| if t < 0.5 { f64::NEG_INFINITY } else { -(t - 0.7f64).powi(2) }, 0.0, 1.0, 0.7),
         ];

@@ -408,13 +408,7 @@ impl<'a> Ctx<'a> {
     pub fn surface_kept(&self, id: EntityId) -> Result<SurfaceGeom> {
         match self.doc.surface_cache.get(self.cache_key(id)).as_deref() {
             Some(CachedSurface::Geom(g)) => Ok(g.clone()),
-            Some(CachedSurface::Net(net)) => {
-                let k = self.index(id)?;
-                let points = self.points(&net.ids)?;
-                NurbsSurface::try_new(net.degrees, net.knots.clone(), net.counts, points, net.weights.clone())
-                    .map(SurfaceGeom::Nurbs)
-                    .map_err(|e| Error::Geometry { at: self.doc.position_of(k, net.start), source: e })
-            }
+            Some(CachedSurface::Net(net)) => self.net_surface(self.index(id)?, net).map(SurfaceGeom::Nurbs),
             None => self.surface(id),
         }
     }
@@ -508,9 +502,14 @@ impl<'a> Ctx<'a> {
 
     /// `B_SPLINE_SURFACE_WITH_KNOTS` (simple) or the rational complex form.
     pub fn bspline_surface(&self, k: usize, body: Rc<Body<'a>>) -> Result<NurbsSurface> {
-        let (net, head) = self.bspline_net(k, body)?;
+        self.net_surface(k, &self.bspline_net(k, body)?.0)
+    }
+
+    /// The surface of a checked net (of the instance at position `k`), its points read.
+    fn net_surface(&self, k: usize, net: &BSplineNet) -> Result<NurbsSurface> {
         let points = self.points(&net.ids)?;
-        NurbsSurface::try_new(net.degrees, net.knots, net.counts, points, net.weights).map_err(|e| head.geometry(e))
+        NurbsSurface::try_new(net.degrees, net.knots.clone(), net.counts, points, net.weights.clone())
+            .map_err(|e| Error::Geometry { at: self.doc.position_of(k, net.start), source: e })
     }
 
     /// What [`Document::faces`](crate::Document::faces) lists of a B-spline surface
@@ -519,7 +518,7 @@ impl<'a> Ctx<'a> {
     /// checks it, each reference checked to name a `CARTESIAN_POINT` instance, but the points'
     /// coordinates not read (that is the bulk of a large surface's reading, done again
     /// when the face is converted).
-    pub fn bspline_surface_kind(&self, k: usize, body: Rc<Body<'a>>) -> Result<SurfaceKind> {
+    pub fn bspline_surface_kind(&self, id: EntityId, k: usize, body: Rc<Body<'a>>) -> Result<SurfaceKind> {
         let (net, head) = self.bspline_net(k, body)?;
         for (n, id) in net.ids.iter().enumerate() {
             let j = self.index(*id)?;
@@ -548,7 +547,7 @@ impl<'a> Ctx<'a> {
             n_v: net.counts.1,
             rational,
         };
-        self.doc.surface_cache.put(self.cache_key(self.doc_id(k)), CachedSurface::Net(net));
+        self.doc.surface_cache.put(self.cache_key(id), CachedSurface::Net(net));
         Ok(kind)
     }
 

@@ -211,9 +211,9 @@ pub(crate) struct Ctx<'d> {
     pub angle_scale: f64,
     stack: RefCell<Vec<u64>>,
     /// Edge geometry by `EDGE_CURVE` id.
-    pub(crate) edges: RefCell<FxHashMap<u64, Rc<topology::EdgeGeometry>>>,
+    edges: RefCell<FxHashMap<u64, Rc<topology::EdgeGeometry>>>,
     /// Units by instance id.
-    pub(crate) units: RefCell<FxHashMap<u64, units::Unit>>,
+    units: RefCell<FxHashMap<u64, units::Unit>>,
 }
 
 impl<'d> Ctx<'d> {
@@ -230,11 +230,6 @@ impl<'d> Ctx<'d> {
 
     pub fn index(&self, id: EntityId) -> Result<usize> {
         self.doc.index.get(id.0).ok_or(Error::NoSuchInstance(id))
-    }
-
-    /// The id of the instance at position `k`.
-    pub fn doc_id(&self, k: usize) -> EntityId {
-        EntityId(self.doc.instances[k].id)
     }
 
     /// The parsed body of the instance at position `k`. Not kept: most records are read

@@ -6,7 +6,6 @@ use cadmorph_nurbs::analytic::Placement;
 use cadmorph_nurbs::math::{Matrix4, Point3};
 
 use super::geometry::SurfaceGeom;
-use super::units::contains;
 use super::{Ctx, Edge, Face, SurfaceKind, WorldCurve, WorldSurface};
 use crate::document::Document;
 use crate::error::{Error, Result};
@@ -136,6 +135,7 @@ impl Ctx<'_> {
         // SHAPE_DEFINITION_REPRESENTATION names.
         let mut mapped: HashMap<u64, bool> = HashMap::new();
         let mut defined: HashMap<u64, bool> = HashMap::new();
+        let relationship = memchr::memmem::Finder::new(b"REPRESENTATION_RELATIONSHIP");
         for k in 0..doc.instances.len() {
             let inst = &doc.instances[k];
             // Every name looked for below holds REPRESENTATION: the bulk of a file's
@@ -173,7 +173,7 @@ impl Ctx<'_> {
                 defined.insert(r.reference(1)?.0, true);
             } else if (!inst.complex
                 && matches!(name, "SHAPE_REPRESENTATION_RELATIONSHIP" | "REPRESENTATION_RELATIONSHIP"))
-                || (inst.complex && contains(doc.text(k), b"REPRESENTATION_RELATIONSHIP"))
+                || (inst.complex && relationship.find(doc.text(k)).is_some())
             {
                 let body = doc.body_at(k)?;
                 let Some(rr) = body
@@ -501,7 +501,7 @@ impl Ctx<'_> {
         let k = self.index(id)?;
         let body = self.body(k)?;
         if matches!(*body, Body::Complex(_)) || self.doc.name_bytes(k) == b"B_SPLINE_SURFACE_WITH_KNOTS" {
-            return self.bspline_surface_kind(k, body);
+            return self.bspline_surface_kind(id, k, body);
         }
         let g = self.surface(id)?;
         self.keep_surface(id, &g);

@@ -247,13 +247,14 @@ impl Document {
     /// The model units and the context they come from.
     fn find_units(&self) -> Result<(Units, Option<u64>)> {
         let ctx = Ctx::new(self, 1.0);
+        let global = memchr::memmem::Finder::new(b"GLOBAL_UNIT_ASSIGNED_CONTEXT");
         for k in 0..self.instances.len() {
             if !self.instances[k].complex {
                 continue;
             }
             // Cheap test on the text before parsing a complex instance.
             let text = self.text(k);
-            if !contains(text, b"GLOBAL_UNIT_ASSIGNED_CONTEXT") {
+            if global.find(text).is_none() {
                 continue;
             }
             let (length, angle, uncertainty) = ctx.context_units(EntityId(self.instances[k].id))?;
@@ -262,14 +263,5 @@ impl Document {
             }
         }
         Ok((Units::default(), None))
-    }
-}
-
-pub(crate) fn contains(hay: &[u8], needle: &[u8]) -> bool {
-    // The first byte compared before the whole window: most windows of an entity name
-    // fail there, without a call to compare slices.
-    match needle.first() {
-        Some(&c) => hay.windows(needle.len()).any(|w| w[0] == c && w == needle),
-        None => true,
     }
 }
