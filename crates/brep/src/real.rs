@@ -3,9 +3,10 @@
 //! to the same `f64`, always with a decimal point, and an `E` exponent outside a range
 //! of magnitudes each format's writer chooses.
 //!
-//! The shortest digits come from `ryu` (Ulf Adams' algorithm, the crate serde_json uses):
-//! several times faster than `core::fmt`'s, and written into the caller's buffer without
-//! allocating. Which text follows from the digits is the same as `format!("{x:?}")` or
+//! The shortest digits come from `zmij` (dtolnay's port of Victor Zverovich's Żmij, a
+//! Schubfach variant; the crate serde_json formats with): several times faster than
+//! `core::fmt`'s and about twice as fast as `ryu`'s, which it replaced, and written into
+//! the caller's buffer without allocating. Which text follows from the digits is the same as `format!("{x:?}")` or
 //! `format!("{x}")` laid out as below (tested against both).
 
 /// Appends `x` to `out`: in plain decimal notation when `x == 0` or
@@ -27,12 +28,12 @@
 /// ```
 pub fn write_real(x: f64, decimal: (f64, f64), out: &mut Vec<u8>) {
     debug_assert!(x.is_finite());
-    let mut buf = ryu::Buffer::new();
+    let mut buf = zmij::Buffer::new();
     let s = buf.format_finite(x).as_bytes();
     let a = x.abs();
-    // ryu writes plain decimals for 1e-5 ≤ |x| < 1e21 (`123.0`, `0.25`, `0.00001`), never
-    // with trailing zeros but the `.0` of an integer: inside that, copy.
-    if a >= decimal.0 && a < decimal.1 && decimal.0 >= 1e-5 && decimal.1 <= 1e21 {
+    // zmij writes plain decimals for 1e-5 ≤ |x| < 1e16 (`123.0`, `0.25`, `0.00001`),
+    // never with trailing zeros but the `.0` of an integer: inside that, copy.
+    if a >= decimal.0 && a < decimal.1 && decimal.0 >= 1e-5 && decimal.1 <= 1e16 {
         match s.strip_suffix(b".0") {
             Some(int) => {
                 out.extend_from_slice(int);
@@ -42,7 +43,7 @@ pub fn write_real(x: f64, decimal: (f64, f64), out: &mut Vec<u8>) {
         }
         return;
     }
-    // ryu writes `[-]digits[.digits][e[-]exp]` or `[-]0.000digits`: take the significant
+    // zmij writes `[-]digits[.digits][e(-|+)exp]` or `[-]0.000digits`: take the significant
     // digits and the decimal exponent of the first one.
     let (neg, s) = match s.split_first() {
         Some((b'-', rest)) => (true, rest),
@@ -112,6 +113,7 @@ pub fn write_real(x: f64, decimal: (f64, f64), out: &mut Vec<u8>) {
 fn parse_exp(s: &[u8]) -> i32 {
     let (neg, s) = match s.split_first() {
         Some((b'-', rest)) => (true, rest),
+        Some((b'+', rest)) => (false, rest),
         _ => (false, s),
     };
     let v = s.iter().fold(0i32, |v, &c| v * 10 + i32::from(c - b'0'));
@@ -192,7 +194,7 @@ mod tests {
 
     /// The same value, length and layout as `core::fmt`'s text. The last digit may
     /// differ where the exact value lies half-way between two shortest candidates:
-    /// ryu rounds such ties to even, `core::fmt` up (`-1921938935185794.25` is
+    /// zmij (as ryu) rounds such ties to even, `core::fmt` up (`-1921938935185794.25` is
     /// `…794.2` in one and `…794.3` in the other; both read back to the same bits).
     fn agrees(x: f64, d: (f64, f64)) -> Result<(), TestCaseError> {
         let (a, b) = (text(x, d), reference(x, d));

@@ -37,6 +37,7 @@ mod basis;
 mod compose;
 mod curve;
 mod error;
+mod extrema;
 mod fit;
 mod knots;
 mod project;

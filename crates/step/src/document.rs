@@ -3,7 +3,7 @@
 use std::collections::{BTreeMap, HashMap};
 
 use crate::error::{Error, Position, Result};
-use crate::read::param::{parse_body, Body};
+use crate::read::param::{parse_body, parse_body_in, Body, Param};
 use crate::EntityId;
 
 /// One instance of the data section: where its text is and what it is.
@@ -266,9 +266,15 @@ impl Document {
     }
 
     pub(crate) fn body_at(&self, k: usize) -> Result<Body<'_>> {
+        self.body_at_in(k, &mut Vec::new())
+    }
+
+    /// [`body_at`](Self::body_at) gathering the parameter lists on the caller's `stack`
+    /// (see [`parse_body_in`]).
+    pub(crate) fn body_at_in<'d>(&'d self, k: usize, stack: &mut Vec<Param<'d>>) -> Result<Body<'d>> {
         let inst = &self.instances[k];
         let text = self.text(k);
-        parse_body(&text[inst.body as usize..], inst.body as usize)
+        parse_body_in(&text[inst.body as usize..], inst.body as usize, stack)
             .map_err(|rel| Error::Limit { at: self.position_of(k, rel), what: "integer does not fit 64 bits" })
     }
 

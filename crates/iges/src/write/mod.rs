@@ -74,30 +74,34 @@ pub(crate) fn layout(values: &[Value], pd: u8, rd: u8, width: usize) -> Layout {
     let mut start = 0;
     let mut tok = Vec::new();
     for (k, v) in values.iter().enumerate() {
+        // Each value is written in place; only one that does not fit the line moves.
+        let at = text.len();
+        format_value(v, &mut text);
+        text.push(if k + 1 == values.len() { rd } else { pd });
+        let len = text.len() - at;
+        if at - start + len <= width {
+            continue;
+        }
+        if len <= width && !matches!(v, Value::Text(_)) {
+            ends.push(at);
+            start = at;
+            continue;
+        }
+        // A long string: fill the line, continue on the next ones.
         tok.clear();
-        format_value(v, &mut tok);
-        tok.push(if k + 1 == values.len() { rd } else { pd });
-        let cur = text.len() - start;
-        if cur + tok.len() <= width {
-            text.extend_from_slice(&tok);
-        } else if tok.len() <= width && !matches!(v, Value::Text(_)) {
+        tok.extend_from_slice(&text[at..]);
+        text.truncate(at);
+        let mut rest = &tok[..];
+        loop {
+            let room = width - (text.len() - start);
+            let take = room.min(rest.len());
+            text.extend_from_slice(&rest[..take]);
+            rest = &rest[take..];
+            if rest.is_empty() {
+                break;
+            }
             ends.push(text.len());
             start = text.len();
-            text.extend_from_slice(&tok);
-        } else {
-            // A long string: fill the line, continue on the next ones.
-            let mut rest = &tok[..];
-            loop {
-                let room = width - (text.len() - start);
-                let take = room.min(rest.len());
-                text.extend_from_slice(&rest[..take]);
-                rest = &rest[take..];
-                if rest.is_empty() {
-                    break;
-                }
-                ends.push(text.len());
-                start = text.len();
-            }
         }
     }
     if values.is_empty() {

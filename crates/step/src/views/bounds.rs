@@ -179,6 +179,10 @@ const PARALLEL: f64 = 1e-12;
 /// - A conic `O + a cos t X + b sin t Y` on a plane: each coordinate is
 ///   `c₀ + α cos t + β sin t`, extreme where `tan t = β / α` (at `atan2(β, α) + kπ`);
 ///   those inside the edge and its ends.
+/// - A polynomial B-spline (or polyline) on a plane: u and v are the curve's coordinates
+///   along the plane's axes, extreme where their derivatives change sign on a Bézier
+///   piece or at a knot ([`NurbsCurve::extreme_params`](cadmorph_nurbs::NurbsCurve::extreme_params));
+///   those and its ends. Rational curves go the sampled way.
 /// - A circle about the axis of a cylinder, cone, sphere, torus or surface of revolution
 ///   (its normal along the axis, its centre on it): v is constant and u moves with t, so
 ///   its ends and points at most a quarter turn apart for the unwrapping; a torus's
@@ -229,6 +233,15 @@ fn closed_form_params(g: &SurfaceGeom, c: &CurveGeom, t0: f64, t1: f64) -> Optio
                 }
             }
             ts.sort_by(f64::total_cmp);
+            Some(ts)
+        }
+        (CurveGeom::Nurbs(n) | CurveGeom::Polyline(n), SurfaceGeom::Plane(s)) => {
+            let mut ts = vec![t0, t1];
+            for e in [s.placement.x_dir(), s.placement.y_dir()] {
+                ts.extend(n.extreme_params(&e, t0, t1)?);
+            }
+            ts.sort_by(f64::total_cmp);
+            ts.dedup();
             Some(ts)
         }
         (CurveGeom::Conic { frame, a, b }, _) => {

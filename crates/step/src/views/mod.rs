@@ -214,6 +214,8 @@ pub(crate) struct Ctx<'d> {
     edges: RefCell<FxHashMap<u64, Rc<topology::EdgeGeometry>>>,
     /// Units by instance id.
     units: RefCell<FxHashMap<u64, units::Unit>>,
+    /// The parameter stack every record of this context is read with.
+    params: RefCell<Vec<crate::read::param::Param<'d>>>,
 }
 
 impl<'d> Ctx<'d> {
@@ -225,6 +227,7 @@ impl<'d> Ctx<'d> {
             stack: RefCell::new(Vec::new()),
             edges: RefCell::new(FxHashMap::default()),
             units: RefCell::new(FxHashMap::default()),
+            params: RefCell::new(Vec::new()),
         }
     }
 
@@ -235,7 +238,7 @@ impl<'d> Ctx<'d> {
     /// The parsed body of the instance at position `k`. Not kept: most records are read
     /// once, and keeping them cost more than reading the few shared ones again.
     pub fn body(&self, k: usize) -> Result<Rc<Body<'d>>> {
-        Ok(Rc::new(self.doc.body_at(k)?))
+        Ok(Rc::new(self.doc.body_at_in(k, &mut self.params.borrow_mut())?))
     }
 
     /// Runs `f` with `id` on the resolution stack; a second visit is a cycle.
