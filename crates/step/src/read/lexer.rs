@@ -117,7 +117,7 @@ fn is_name(c: u8) -> bool {
 /// `[!]letter{letter|digit|_}` (a keyword; `_` counts as a letter): the end, if one
 /// starts at `i`.
 #[inline]
-fn keyword_end(s: &[u8], i: usize) -> Option<usize> {
+pub(crate) fn keyword_end(s: &[u8], i: usize) -> Option<usize> {
     let i = if s.get(i) == Some(&b'!') { i + 1 } else { i };
     match s.get(i) {
         Some(&c) if c.is_ascii_alphabetic() || c == b'_' => Some(run(s, i + 1, is_name)),
@@ -151,7 +151,7 @@ pub(crate) fn number_end(s: &[u8], i: usize) -> Option<(usize, bool)> {
 
 /// `.NAME.` from `i` (at the first `.`): the end.
 #[inline]
-fn enumeration_end(s: &[u8], i: usize) -> Option<usize> {
+pub(crate) fn enumeration_end(s: &[u8], i: usize) -> Option<usize> {
     let name = run(s, i + 1, is_name);
     (name > i + 1 && s.get(name) == Some(&b'.')).then_some(name + 1)
 }

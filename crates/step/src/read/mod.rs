@@ -79,6 +79,7 @@ impl<'a> Reader<'a> {
                         b'#' => lexer::reference_end(s, p),
                         b'+' | b'-' | b'0'..=b'9' => lexer::number_end(s, p).map(|(e, _)| e),
                         b'$' | b'*' => Some(p + 1),
+                        b'.' => lexer::enumeration_end(s, p),
                         // A string without doubled apostrophes.
                         b'\'' => s[p + 1..]
                             .iter()
@@ -206,6 +207,43 @@ impl<'a> Reader<'a> {
     }
 }
 
+/// `#n` at the start of the next line (after the `;` of the previous instance at `i`,
+/// with its line break `\n` or `\r\n`): the reference token the general reading gives
+/// there. `None` for anything else, left to that reading.
+#[inline]
+fn next_instance_id(s: &[u8], mut i: usize) -> Option<Token> {
+    if s.get(i) == Some(&b'\r') {
+        i += 1;
+    }
+    if s.get(i) == Some(&b'\n') {
+        i += 1;
+    }
+    if s.get(i) != Some(&b'#') {
+        return None;
+    }
+    let end = lexer::reference_end(s, i)?;
+    Some(Token { kind: Kind::Reference, start: i, end })
+}
+
+/// ` = NAME(` after an instance id at `i`, with blanks only (no line break or comment)
+/// around `=`, as writers lay instances out: the name's token, which the general reading
+/// (`=` and a token) would give there. `None` for anything else, left to that reading.
+#[inline]
+fn instance_head(s: &[u8], mut i: usize) -> Option<Token> {
+    while s.get(i) == Some(&b' ') {
+        i += 1;
+    }
+    if s.get(i) != Some(&b'=') {
+        return None;
+    }
+    i += 1;
+    while s.get(i) == Some(&b' ') {
+        i += 1;
+    }
+    let end = lexer::keyword_end(s, i)?;
+    (s.get(end) == Some(&b'(')).then_some(Token { kind: Kind::Keyword, start: i, end })
+}
+
 #[cfg(test)]
 thread_local! {
     /// Tests only: every parameter read through tokens, the fast forms of
@@ -323,7 +361,13 @@ impl Reader<'_> {
                     return Ok(DataEnd::Stop);
                 }
             }
-            let t = self.next()?;
+            let t = match fast_forms().then(|| next_instance_id(bytes, self.lx.pos)).flatten() {
+                Some(t) => {
+                    self.lx.pos = t.end;
+                    t
+                }
+                None => self.next()?,
+            };
             match t.kind {
                 Kind::Keyword if &bytes[t.start..t.end] == b"ENDSEC" => return Ok(DataEnd::Endsec(t.start)),
                 Kind::Reference if bytes[t.start] == b'#' => {
@@ -332,10 +376,24 @@ impl Reader<'_> {
                         what: "instance id does not fit 64 bits",
                     })?;
                     self.current = Some(EntityId(id));
-                    self.expect(Kind::Equals, "'=' after the instance id")?;
-                    let body = self.next()?;
+                    let body = match fast_forms().then(|| instance_head(bytes, self.lx.pos)).flatten() {
+                        Some(name) => {
+                            self.lx.pos = name.end;
+                            name
+                        }
+                        None => {
+                            self.expect(Kind::Equals, "'=' after the instance id")?;
+                            self.next()?
+                        }
+                    };
                     let (complex, name_len) = self.body(body, &mut g.refs)?;
-                    let semi = self.expect(Kind::Semicolon, "';' after an instance")?;
+                    let semi = match bytes.get(self.lx.pos) {
+                        Some(b';') if fast_forms() => {
+                            self.lx.pos += 1;
+                            Token { kind: Kind::Semicolon, start: self.lx.pos - 1, end: self.lx.pos }
+                        }
+                        _ => self.expect(Kind::Semicolon, "';' after an instance")?,
+                    };
                     g.ref_owner.resize(g.refs.len(), g.instances.len() as u32);
                     g.max_id = g.max_id.max(id);
                     g.instances.push(Instance {
@@ -730,11 +788,33 @@ mod tests {
             seed in proptest::prelude::any::<u64>(),
             stray in proptest::option::of((proptest::prelude::any::<proptest::sample::Index>(), proptest::sample::select(vec![
                 "#99999999999999999999999", "#", "1.E", "12AB", "-", ",", ")", "(", ",)", "#3#4", "1..2", "()", "( )",
-                "99999999999999999999", "-0", "@5",
+                "99999999999999999999", "-0", "@5", ".", ".T", "..", ".A.B.", ".1.",
             ]))),
         ) {
             let text = format!("A({})", with_stray(seed, stray));
             let (fast, tokens) = both_ways(|| format!("{:?}", param::parse_body(text.as_bytes(), 7)));
+            proptest::prop_assert_eq!(fast, tokens, "{}", text);
+        }
+
+        /// Instance heads `#n = NAME(`, the `;` after an instance and the line break before
+        /// the next read from their bytes give what the token reading gives: the same
+        /// instances (offsets, names, kinds), or the same error at the same place, for
+        /// the layouts writers use and for broken ones.
+        #[test]
+        fn fast_instance_heads_read_as_tokens(
+            heads in proptest::collection::vec(proptest::sample::select(vec![
+                "=A('x');", " = A('x');", "  =  A('x');", "\t= A('x');", " =\nA('x');", " = /* c */A('x');",
+                " = (A('x') B());", "=(A()B());", " = !U('x');", " = A_2 ('x');", " = a_b('x');", " = A;",
+                " A('x');", " = 5('x');", " == A('x');", " = A(#1);", " = A(.T.,#2,$);", "= ('x');", "=",
+            ]), 1..6),
+        ) {
+            let data: String = heads
+                .iter()
+                .enumerate()
+                .map(|(i, h)| format!("#{}{}{}", i + 1, h, ["\n", "\r\n", "", " ", "\n\n", "/* c */\n"][i % 6]))
+                .collect();
+            let text = file(&[data]);
+            let (fast, tokens) = both_ways(|| format!("{:?}", Document::parse(text.as_bytes()).map(|d| listing(&d))));
             proptest::prop_assert_eq!(fast, tokens, "{}", text);
         }
     }

@@ -1,6 +1,6 @@
 //! Typed parameters of a record, parsed on demand from an instance's text.
 
-use super::lexer::{number_end, reference_end, reference_id, Kind, Lexer, Token};
+use super::lexer::{enumeration_end, number_end, reference_end, reference_id, Kind, Lexer, Token};
 use crate::EntityId;
 
 /// Deepest nesting of lists and typed parameters the reader accepts (real files use 4).
@@ -199,7 +199,7 @@ impl<'a> P<'a> {
         }
     }
 
-    /// A reference or number that starts right at the cursor (no blank or comment
+    /// A reference, number or enumeration that starts right at the cursor (no blank or comment
     /// before it), read from its bytes without a token: what [`param`](Self::param) reads
     /// of the same text. `None` for anything else, and for what `param` would refuse
     /// (then it reads it, and reports it).
@@ -214,6 +214,10 @@ impl<'a> P<'a> {
             b'+' | b'-' | b'0'..=b'9' => {
                 let (e, is_real) = number_end(s, p)?;
                 (number_value(&s[p..e], is_real)?, e)
+            }
+            b'.' => {
+                let e = enumeration_end(s, p)?;
+                (Value::Enumeration(str_of(s, Token { kind: Kind::Enumeration, start: p, end: e }, 1)), e)
             }
             _ => return None,
         };
