@@ -7,6 +7,7 @@ use cadmorph_nurbs::analytic::{
 use cadmorph_nurbs::math::{Matrix3, Matrix4, Point3, Vector3};
 use cadmorph_nurbs::{Curve, CurveProject, KnotVector, NurbsCurve, NurbsSurface};
 
+use super::flat::Flat;
 use super::{Ctx, Rec, SurfaceKind};
 use crate::error::{Error, Result};
 use crate::read::param::{Body, Param, Value};
@@ -222,6 +223,9 @@ impl<'a> Ctx<'a> {
 
     /// `VECTOR('', direction, magnitude)` as (unit direction, magnitude).
     pub fn vector(&self, id: EntityId) -> Result<(Vector3<f64>, f64)> {
+        if let Some([Flat::Ref(d), Flat::Number(m)]) = self.flat::<2>(self.index(id)?, b"VECTOR") {
+            return Ok((self.direction(d)?, m * self.length_scale));
+        }
         let r = self.simple(id, "VECTOR")?;
         r.arity(3)?;
         let d = self.direction(r.reference(1)?)?;
@@ -230,6 +234,25 @@ impl<'a> Ctx<'a> {
 
     /// `AXIS2_PLACEMENT_3D('', location, axis, ref_direction)` with OCCT's defaults for `$`.
     pub fn placement(&self, id: EntityId) -> Result<Placement> {
+        let k = self.index(id)?;
+        if let Some([Flat::Ref(o), z @ (Flat::Ref(_) | Flat::Unset), x @ (Flat::Ref(_) | Flat::Unset)]) =
+            self.flat::<3>(k, b"AXIS2_PLACEMENT_3D")
+        {
+            // What the general reading below does, in its order; a placement it refuses is
+            // read again there for the error.
+            let o = self.point(o)?;
+            let z = match z {
+                Flat::Ref(d) => self.direction(d)?,
+                _ => Vector3::z(),
+            };
+            let x = match x {
+                Flat::Ref(d) => self.direction(d)?,
+                _ => default_x(&z),
+            };
+            if let Ok(p) = Placement::try_new(o, z, x).or_else(|_| Placement::try_new(o, z, default_x(&z))) {
+                return Ok(p);
+            }
+        }
         let r = self.simple(id, "AXIS2_PLACEMENT_3D")?;
         r.arity(4)?;
         let o = self.point(r.reference(1)?)?;
@@ -254,6 +277,21 @@ impl<'a> Ctx<'a> {
 
     fn curve_inner(&self, id: EntityId) -> Result<CurveGeom> {
         let k = self.index(id)?;
+        // Lines and circles as flat records (what the general reading below does, in its
+        // order; one it refuses is read again there for the error).
+        if let Some([Flat::Ref(o), Flat::Ref(v)]) = self.flat::<2>(k, b"LINE") {
+            let o = self.point(o)?;
+            let (d, _) = self.vector(v)?;
+            if let Ok(l) = Line::try_new(o, d) {
+                return Ok(CurveGeom::Line(l));
+            }
+        } else if let Some([Flat::Ref(f), Flat::Number(a)]) = self.flat::<2>(k, b"CIRCLE") {
+            let frame = self.placement(f)?;
+            let a = a * self.length_scale;
+            if Circle::try_new(frame, a).is_ok() {
+                return Ok(CurveGeom::Conic { frame, a, b: a });
+            }
+        }
         let body = self.body(k)?;
         if let Body::Complex(_) = &*body {
             return self.bspline_curve(k, &body).map(CurveGeom::Nurbs);
@@ -396,7 +434,33 @@ impl<'a> Ctx<'a> {
 
     /// A surface entity.
     pub fn surface(&self, id: EntityId) -> Result<SurfaceGeom> {
-        self.nested(id, || self.surface_inner(id))
+        self.nested(id, || {
+            let k = self.index(id)?;
+            if let Some(g) = self.flat_surface(k)? {
+                return Ok(g);
+            }
+            self.surface_inner(k, self.body(k)?)
+        })
+    }
+
+    /// A `PLANE` or `CYLINDRICAL_SURFACE` at `k` read as a flat record
+    /// ([`flat`](super::flat)): what [`surface`](Self::surface) gives, or `None` for any
+    /// other record and for one that reading refuses (the general reading then reads it
+    /// and reports).
+    pub fn flat_surface(&self, k: usize) -> Result<Option<SurfaceGeom>> {
+        if let Some([Flat::Ref(a)]) = self.flat::<1>(k, b"PLANE") {
+            return Ok(Some(SurfaceGeom::Plane(Plane::new(self.placement(a)?))));
+        }
+        if let Some([Flat::Ref(a), Flat::Number(r)]) = self.flat::<2>(k, b"CYLINDRICAL_SURFACE") {
+            let f = self.placement(a)?;
+            return Ok(Cylinder::try_new(f, r * self.length_scale).ok().map(SurfaceGeom::Cylinder));
+        }
+        Ok(None)
+    }
+
+    /// [`surface`](Self::surface) of the instance at `k`, whose record the caller read.
+    pub fn surface_read(&self, id: EntityId, k: usize, body: Rc<Body<'a>>) -> Result<SurfaceGeom> {
+        self.nested(id, || self.surface_inner(k, body))
     }
 
     fn cache_key(&self, id: EntityId) -> (u64, u64) {
@@ -418,9 +482,7 @@ impl<'a> Ctx<'a> {
         self.doc.surface_cache.put(self.cache_key(id), CachedSurface::Geom(g.clone()));
     }
 
-    fn surface_inner(&self, id: EntityId) -> Result<SurfaceGeom> {
-        let k = self.index(id)?;
-        let body = self.body(k)?;
+    fn surface_inner(&self, k: usize, body: Rc<Body<'a>>) -> Result<SurfaceGeom> {
         if matches!(*body, Body::Complex(_)) || self.doc.name_of(k) == "B_SPLINE_SURFACE_WITH_KNOTS" {
             return self.bspline_surface(k, body).map(SurfaceGeom::Nurbs);
         }

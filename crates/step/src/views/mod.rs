@@ -2,6 +2,7 @@
 //! coordinates and model units.
 
 mod bounds;
+pub(crate) mod flat;
 pub(crate) mod geometry;
 mod topology;
 mod units;
@@ -214,6 +215,8 @@ pub(crate) struct Ctx<'d> {
     edges: RefCell<FxHashMap<u64, Rc<topology::EdgeGeometry>>>,
     /// Units by instance id.
     units: RefCell<FxHashMap<u64, units::Unit>>,
+    /// Vertex points by `VERTEX_POINT` id (a vertex ends several edges).
+    vertices: RefCell<FxHashMap<u64, nalgebra::Point3<f64>>>,
     /// The parameter stack every record of this context is read with.
     params: RefCell<Vec<crate::read::param::Param<'d>>>,
 }
@@ -227,6 +230,7 @@ impl<'d> Ctx<'d> {
             stack: RefCell::new(Vec::new()),
             edges: RefCell::new(FxHashMap::default()),
             units: RefCell::new(FxHashMap::default()),
+            vertices: RefCell::new(FxHashMap::default()),
             params: RefCell::new(Vec::new()),
         }
     }
@@ -270,6 +274,13 @@ impl<'d> Ctx<'d> {
             });
         }
         Ok(r)
+    }
+
+    /// The parameters after the name string of the instance at `k` when it is the flat
+    /// record `name(...)` of `N` such parameters ([`flat::flat`]); `None` otherwise, and
+    /// the caller reads it with the general reader.
+    pub fn flat<const N: usize>(&self, k: usize, name: &[u8]) -> Option<[flat::Flat; N]> {
+        flat::flat(self.doc.text(k), self.doc.instances[k].body as usize, name)
     }
 
     /// The simple record of `#id`, whatever its name.

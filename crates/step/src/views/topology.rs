@@ -5,6 +5,7 @@ use std::collections::HashMap;
 use cadmorph_nurbs::analytic::Placement;
 use cadmorph_nurbs::math::{Matrix4, Point3};
 
+use super::flat::Flat;
 use super::geometry::SurfaceGeom;
 use super::{Ctx, Edge, Face, SurfaceKind, WorldCurve, WorldSurface};
 use crate::document::Document;
@@ -499,11 +500,15 @@ impl Ctx<'_> {
     /// As [`surface`](Self::surface), for what it reads.
     pub fn surface_kind_of(&self, id: EntityId) -> Result<SurfaceKind> {
         let k = self.index(id)?;
+        if let Some(g) = self.flat_surface(k)? {
+            self.keep_surface(id, &g);
+            return Ok(self.surface_kind(&g));
+        }
         let body = self.body(k)?;
         if matches!(*body, Body::Complex(_)) || self.doc.name_bytes(k) == b"B_SPLINE_SURFACE_WITH_KNOTS" {
             return self.bspline_surface_kind(id, k, body);
         }
-        let g = self.surface(id)?;
+        let g = self.surface_read(id, k, body)?;
         self.keep_surface(id, &g);
         Ok(self.surface_kind(&g))
     }
@@ -708,6 +713,13 @@ impl Document {
         let sense = r.bool(3)?;
         let mut bounds = Vec::new();
         for b in r.refs(1)? {
+            let k = ctx.index(b)?;
+            if let Some([Flat::Ref(lp), Flat::Bool(sense)]) =
+                ctx.flat::<2>(k, b"FACE_OUTER_BOUND").or_else(|| ctx.flat::<2>(k, b"FACE_BOUND"))
+            {
+                bounds.push((b, lp, sense));
+                continue;
+            }
             let br = ctx.any(b)?;
             if !matches!(br.name(), "FACE_BOUND" | "FACE_OUTER_BOUND") {
                 return Err(Error::UnexpectedEntity {
@@ -903,6 +915,11 @@ impl Ctx<'_> {
         r.arity(2)?;
         let mut out = Vec::new();
         for oe in r.refs(1)? {
+            // The general reading below reads only the edge and its orientation.
+            if let Some([_, _, Flat::Ref(e), Flat::Bool(b)]) = self.flat::<4>(self.index(oe)?, b"ORIENTED_EDGE") {
+                out.push((e, b));
+                continue;
+            }
             let o = self.any(oe)?;
             match o.name() {
                 "ORIENTED_EDGE" => {
@@ -934,16 +951,34 @@ impl Ctx<'_> {
     }
 
     fn read_edge_geometry(&self, e: EntityId) -> Result<EdgeGeometry> {
-        let r = self.simple(e, "EDGE_CURVE")?;
-        r.arity(5)?;
         let vp = |v: EntityId| -> Result<Point3<f64>> {
-            let vr = self.simple(v, "VERTEX_POINT")?;
-            vr.arity(2)?;
-            self.point(vr.reference(1)?)
+            if let Some(&p) = self.vertices.borrow().get(&v.0) {
+                return Ok(p);
+            }
+            let k = self.index(v)?;
+            let p = match self.flat::<1>(k, b"VERTEX_POINT") {
+                Some([Flat::Ref(p)]) => self.point(p)?,
+                _ => {
+                    let vr = self.simple(v, "VERTEX_POINT")?;
+                    vr.arity(2)?;
+                    self.point(vr.reference(1)?)?
+                }
+            };
+            self.vertices.borrow_mut().insert(v.0, p);
+            Ok(p)
         };
-        let (p0, p1) = (vp(r.reference(1)?)?, vp(r.reference(2)?)?);
-        let c = self.curve(r.reference(3)?)?;
-        let same = r.bool(4)?;
+        let (p0, p1, c, same) = match self.flat::<4>(self.index(e)?, b"EDGE_CURVE") {
+            Some([Flat::Ref(a), Flat::Ref(b), Flat::Ref(c), Flat::Bool(same)]) => {
+                (vp(a)?, vp(b)?, self.curve(c)?, same)
+            }
+            _ => {
+                let r = self.simple(e, "EDGE_CURVE")?;
+                r.arity(5)?;
+                let (p0, p1) = (vp(r.reference(1)?)?, vp(r.reference(2)?)?);
+                let c = self.curve(r.reference(3)?)?;
+                (p0, p1, c, r.bool(4)?)
+            }
+        };
         let tol = 1e-9 * (p0.coords.norm() + p1.coords.norm() + 1.0);
         let (ta, tb) = (c.param_of(&p0, tol), c.param_of(&p1, tol));
         let (mut t0, mut t1) = if same { (ta, tb) } else { (tb, ta) };

@@ -1,0 +1,186 @@
+//! Flat records read from their bytes: `NAME('...', p₁, …, p_N)` whose parameters after
+//! the name string are references, `$`, `*`, `.T.`/`.F.` or numbers. Most topology and
+//! placement records have that shape (`VERTEX_POINT`, `EDGE_CURVE`, `ORIENTED_EDGE`,
+//! `FACE_BOUND`, `LINE`, `VECTOR`, `PLANE`, `AXIS2_PLACEMENT_3D`), and reading one this
+//! way allocates nothing, where the general reader builds its parameter tree (a small
+//! file's faces read a few hundred of them).
+//!
+//! Only a record of exactly the asked name and arity, written with blanks at most
+//! between its tokens, is read; anything else (a list, a typed parameter, a comment,
+//! another name or arity, a number too long for 64 bits) gives `None`, and the caller
+//! reads the record with the general reader, which also reports its errors. What is read
+//! equals what the general reader gives (property test below).
+
+use crate::read::lexer::{enumeration_end, number_end, reference_end, reference_id};
+use crate::EntityId;
+
+/// One parameter of a flat record.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Flat {
+    /// `#n`.
+    Ref(EntityId),
+    /// `$`.
+    Unset,
+    /// `*`.
+    Derived,
+    /// `.T.` or `.F.`.
+    Bool(bool),
+    /// An integer or real, as [`Param::as_f64`](crate::Param::as_f64) gives it.
+    Number(f64),
+}
+
+fn blanks(t: &[u8], mut i: usize) -> usize {
+    while i < t.len() && matches!(t[i], b' ' | b'\n' | b'\r' | b'\t') {
+        i += 1;
+    }
+    i
+}
+
+/// The `N` parameters after the name string of the record `keyword(...)` that starts at
+/// `body` in `text` (an instance's text and its body offset); `None` when the record has
+/// another shape (see the module docs).
+pub(crate) fn flat<const N: usize>(text: &[u8], body: usize, keyword: &[u8]) -> Option<[Flat; N]> {
+    let t = text.get(body..)?.strip_prefix(keyword)?;
+    let mut i = blanks(t, 0);
+    if t.get(i)? != &b'(' {
+        return None;
+    }
+    i = blanks(t, i + 1);
+    if t.get(i)? != &b'\'' {
+        return None;
+    }
+    i = t[i + 1..].iter().position(|&b| b == b'\'')? + i + 2;
+    if t.get(i) == Some(&b'\'') {
+        return None;
+    }
+    let mut out = [Flat::Unset; N];
+    for slot in &mut out {
+        i = blanks(t, i);
+        if t.get(i)? != &b',' {
+            return None;
+        }
+        i = blanks(t, i + 1);
+        let (value, end) = match *t.get(i)? {
+            b'#' => {
+                let e = reference_end(t, i)?;
+                (Flat::Ref(EntityId(reference_id(&t[i..e])?)), e)
+            }
+            b'$' => (Flat::Unset, i + 1),
+            b'*' => (Flat::Derived, i + 1),
+            b'.' => {
+                let e = enumeration_end(t, i)?;
+                match &t[i..e] {
+                    b".T." => (Flat::Bool(true), e),
+                    b".F." => (Flat::Bool(false), e),
+                    _ => return None,
+                }
+            }
+            b'+' | b'-' | b'0'..=b'9' => {
+                let (e, _) = number_end(t, i)?;
+                (Flat::Number(fast_float2::parse(&t[i..e]).ok()?), e)
+            }
+            _ => return None,
+        };
+        *slot = value;
+        i = end;
+    }
+    i = blanks(t, i);
+    (t.get(i)? == &b')').then_some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::read::param::{parse_body, Body, Value};
+    use proptest::prelude::*;
+
+    /// What the general reader gives for parameter `p` of a flat record, as a [`Flat`].
+    fn general(v: &Value<'_>) -> Option<Flat> {
+        Some(match v {
+            Value::Reference(id) => Flat::Ref(*id),
+            Value::Unset => Flat::Unset,
+            Value::Derived => Flat::Derived,
+            Value::Enumeration("T") => Flat::Bool(true),
+            Value::Enumeration("F") => Flat::Bool(false),
+            Value::Integer(i) => Flat::Number(*i as f64),
+            Value::Real(x) => Flat::Number(*x),
+            _ => return None,
+        })
+    }
+
+    fn piece() -> impl Strategy<Value = &'static str> {
+        prop_oneof![
+            4 => proptest::sample::select(vec!["#12", "#0", "#7", "$", "*", ".T.", ".F.", "1.", "-2.5E-3", "7", "+0.5"]),
+            1 => proptest::sample::select(vec![
+                "#99999999999999999999999", ".U.", ".T", "99999999999999999999", "(#1)", "A(1.)", "'s'", "#", "1.E",
+                "@3", "/* c */#4",
+            ]),
+        ]
+    }
+
+    fn gap() -> impl Strategy<Value = &'static str> {
+        prop_oneof![8 => proptest::sample::select(vec!["", "", " ", "\n", "  "]), 1 => Just(",")]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(1024))]
+
+        /// Whenever the flat reading gives parameters, the general reader gives a simple
+        /// record of that name with the name string and the same parameters.
+        #[test]
+        fn flat_records_read_as_the_general_reader(
+            params in proptest::collection::vec(piece(), 0..5),
+            gaps in proptest::collection::vec(gap(), 12),
+            name in proptest::sample::select(vec!["LINE", "LINE", "LINE", "LINEX", "LINE "]),
+            string in proptest::sample::select(vec!["''", "''", "'a b'", "'it''s'", "'"]),
+            other_arity in proptest::bool::weighted(0.2),
+        ) {
+            let n = if other_arity { (params.len() + 1) % 5 } else { params.len() };
+            let mut text = format!("{name}({}{string}", gaps[0]);
+            for (k, p) in params.iter().enumerate() {
+                text.push_str(&format!("{},{}{}", gaps[(2 * k + 1) % 12], gaps[(2 * k + 2) % 12], p));
+            }
+            text.push_str(gaps[11]);
+            text.push(')');
+            let read = match n {
+                0 => flat::<0>(text.as_bytes(), 0, b"LINE").map(|a| a.to_vec()),
+                1 => flat::<1>(text.as_bytes(), 0, b"LINE").map(|a| a.to_vec()),
+                2 => flat::<2>(text.as_bytes(), 0, b"LINE").map(|a| a.to_vec()),
+                3 => flat::<3>(text.as_bytes(), 0, b"LINE").map(|a| a.to_vec()),
+                _ => flat::<4>(text.as_bytes(), 0, b"LINE").map(|a| a.to_vec()),
+            };
+            if let Some(read) = read {
+                let body = parse_body(text.as_bytes(), 0);
+                let Ok(Body::Simple(r)) = body else {
+                    return Err(TestCaseError::fail(format!("{text}: flat {read:?}, general {body:?}")));
+                };
+                prop_assert_eq!(r.name, "LINE", "{}", text);
+                prop_assert_eq!(r.params.len(), read.len() + 1, "{}", text);
+                prop_assert!(matches!(r.params[0].value, Value::String(_)), "{}", text);
+                for (p, f) in r.params[1..].iter().zip(&read) {
+                    prop_assert_eq!(general(&p.value), Some(*f), "{}", text);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_usual_layouts_are_read() {
+        let t = b"AXIS2_PLACEMENT_3D('',#12,#13,$)";
+        assert_eq!(
+            flat::<3>(t, 0, b"AXIS2_PLACEMENT_3D"),
+            Some([Flat::Ref(EntityId(12)), Flat::Ref(EntityId(13)), Flat::Unset])
+        );
+        let t = b"#5 = ORIENTED_EDGE ( 'NONE', *, *, #40, .F. ) ;";
+        assert_eq!(
+            flat::<4>(t, 5, b"ORIENTED_EDGE"),
+            Some([Flat::Derived, Flat::Derived, Flat::Ref(EntityId(40)), Flat::Bool(false)])
+        );
+        assert_eq!(flat::<2>(b"VECTOR('',#3,1)", 0, b"VECTOR"), Some([Flat::Ref(EntityId(3)), Flat::Number(1.0)]));
+        // Another arity, a list, a comment, another name: left to the general reader.
+        assert_eq!(flat::<1>(b"VECTOR('',#3,1)", 0, b"VECTOR"), None);
+        assert_eq!(flat::<1>(b"PLANE('',(#3))", 0, b"PLANE"), None);
+        assert_eq!(flat::<1>(b"PLANE('',/**/#3)", 0, b"PLANE"), None);
+        assert_eq!(flat::<1>(b"PLANES('',#3)", 0, b"PLANE"), None);
+    }
+}
