@@ -40,26 +40,48 @@ fn blanks(t: &[u8], mut i: usize) -> usize {
 /// `body` in `text` (an instance's text and its body offset); `None` when the record has
 /// another shape (see the module docs).
 pub(crate) fn flat<const N: usize>(text: &[u8], body: usize, keyword: &[u8]) -> Option<[Flat; N]> {
+    flat_after(text, body, keyword, 1)
+}
+
+/// [`flat`] of a record that starts with `strings` strings (0 for `REPRESENTATION_MAP`,
+/// 2 for `ITEM_DEFINED_TRANSFORMATION`'s name and description).
+pub(crate) fn flat_after<const N: usize>(
+    text: &[u8],
+    body: usize,
+    keyword: &[u8],
+    strings: usize,
+) -> Option<[Flat; N]> {
     let t = text.get(body..)?.strip_prefix(keyword)?;
     let mut i = blanks(t, 0);
     if t.get(i)? != &b'(' {
         return None;
     }
-    i = blanks(t, i + 1);
-    if t.get(i)? != &b'\'' {
-        return None;
-    }
-    i = t[i + 1..].iter().position(|&b| b == b'\'')? + i + 2;
-    if t.get(i) == Some(&b'\'') {
-        return None;
-    }
-    let mut out = [Flat::Unset; N];
-    for slot in &mut out {
+    i += 1;
+    for n in 0..strings {
         i = blanks(t, i);
-        if t.get(i)? != &b',' {
+        if n > 0 {
+            if t.get(i)? != &b',' {
+                return None;
+            }
+            i = blanks(t, i + 1);
+        }
+        if t.get(i)? != &b'\'' {
             return None;
         }
-        i = blanks(t, i + 1);
+        i = t[i + 1..].iter().position(|&b| b == b'\'')? + i + 2;
+        if t.get(i) == Some(&b'\'') {
+            return None;
+        }
+    }
+    let mut out = [Flat::Unset; N];
+    for (n, slot) in out.iter_mut().enumerate() {
+        i = blanks(t, i);
+        if n + strings > 0 {
+            if t.get(i)? != &b',' {
+                return None;
+            }
+            i = blanks(t, i + 1);
+        }
         let (value, end) = match *t.get(i)? {
             b'#' => {
                 let e = reference_end(t, i)?;
@@ -126,28 +148,32 @@ mod tests {
         #![proptest_config(ProptestConfig::with_cases(1024))]
 
         /// Whenever the flat reading gives parameters, the general reader gives a simple
-        /// record of that name with the name string and the same parameters.
+        /// record of that name with the leading strings and the same parameters.
         #[test]
         fn flat_records_read_as_the_general_reader(
             params in proptest::collection::vec(piece(), 0..5),
             gaps in proptest::collection::vec(gap(), 12),
             name in proptest::sample::select(vec!["LINE", "LINE", "LINE", "LINEX", "LINE "]),
-            string in proptest::sample::select(vec!["''", "''", "'a b'", "'it''s'", "'"]),
+            strings in proptest::sample::select(vec![
+                vec![], vec!["''"], vec!["''"], vec!["'a b'"], vec!["'it''s'"], vec!["'"], vec!["''", "'d'"],
+            ]),
             other_arity in proptest::bool::weighted(0.2),
         ) {
             let n = if other_arity { (params.len() + 1) % 5 } else { params.len() };
-            let mut text = format!("{name}({}{string}", gaps[0]);
+            let mut text = format!("{name}({}{}", gaps[0], strings.join(","));
             for (k, p) in params.iter().enumerate() {
-                text.push_str(&format!("{},{}{}", gaps[(2 * k + 1) % 12], gaps[(2 * k + 2) % 12], p));
+                let comma = if k == 0 && strings.is_empty() { "" } else { "," };
+                text.push_str(&format!("{}{comma}{}{}", gaps[(2 * k + 1) % 12], gaps[(2 * k + 2) % 12], p));
             }
             text.push_str(gaps[11]);
             text.push(')');
+            let (t, m) = (text.as_bytes(), strings.len());
             let read = match n {
-                0 => flat::<0>(text.as_bytes(), 0, b"LINE").map(|a| a.to_vec()),
-                1 => flat::<1>(text.as_bytes(), 0, b"LINE").map(|a| a.to_vec()),
-                2 => flat::<2>(text.as_bytes(), 0, b"LINE").map(|a| a.to_vec()),
-                3 => flat::<3>(text.as_bytes(), 0, b"LINE").map(|a| a.to_vec()),
-                _ => flat::<4>(text.as_bytes(), 0, b"LINE").map(|a| a.to_vec()),
+                0 => flat_after::<0>(t, 0, b"LINE", m).map(|a| a.to_vec()),
+                1 => flat_after::<1>(t, 0, b"LINE", m).map(|a| a.to_vec()),
+                2 => flat_after::<2>(t, 0, b"LINE", m).map(|a| a.to_vec()),
+                3 => flat_after::<3>(t, 0, b"LINE", m).map(|a| a.to_vec()),
+                _ => flat_after::<4>(t, 0, b"LINE", m).map(|a| a.to_vec()),
             };
             if let Some(read) = read {
                 let body = parse_body(text.as_bytes(), 0);
@@ -155,9 +181,11 @@ mod tests {
                     return Err(TestCaseError::fail(format!("{text}: flat {read:?}, general {body:?}")));
                 };
                 prop_assert_eq!(r.name, "LINE", "{}", text);
-                prop_assert_eq!(r.params.len(), read.len() + 1, "{}", text);
-                prop_assert!(matches!(r.params[0].value, Value::String(_)), "{}", text);
-                for (p, f) in r.params[1..].iter().zip(&read) {
+                prop_assert_eq!(r.params.len(), read.len() + m, "{}", text);
+                for p in &r.params[..m] {
+                    prop_assert!(matches!(p.value, Value::String(_)), "{}", text);
+                }
+                for (p, f) in r.params[m..].iter().zip(&read) {
                     prop_assert_eq!(general(&p.value), Some(*f), "{}", text);
                 }
             }
@@ -182,5 +210,15 @@ mod tests {
         assert_eq!(flat::<1>(b"PLANE('',(#3))", 0, b"PLANE"), None);
         assert_eq!(flat::<1>(b"PLANE('',/**/#3)", 0, b"PLANE"), None);
         assert_eq!(flat::<1>(b"PLANES('',#3)", 0, b"PLANE"), None);
+        let t = b"REPRESENTATION_MAP(#4,#5)";
+        assert_eq!(
+            flat_after::<2>(t, 0, b"REPRESENTATION_MAP", 0),
+            Some([Flat::Ref(EntityId(4)), Flat::Ref(EntityId(5))])
+        );
+        let t = b"ITEM_DEFINED_TRANSFORMATION('','',#6,#7)";
+        assert_eq!(
+            flat_after::<2>(t, 0, b"ITEM_DEFINED_TRANSFORMATION", 2),
+            Some([Flat::Ref(EntityId(6)), Flat::Ref(EntityId(7))])
+        );
     }
 }

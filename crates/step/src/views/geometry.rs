@@ -463,14 +463,17 @@ impl<'a> Ctx<'a> {
         self.nested(id, || self.surface_inner(k, body))
     }
 
-    fn cache_key(&self, id: EntityId) -> (u64, u64) {
-        (id.0, self.angle_scale.to_bits())
+    /// The document cache's key of surface `#id`: its instance position (given by the
+    /// reader, so that a file cannot choose keys that collide in the hash map) and the
+    /// angle unit's bits. `None` for an id the file lacks.
+    fn cache_key(&self, id: EntityId) -> Option<(u64, u64)> {
+        Some((self.doc.index.get(id.0)? as u64, self.angle_scale.to_bits()))
     }
 
     /// [`surface`](Self::surface), taking what [`surface_kind_of`](Self::surface_kind_of)
     /// kept of it in the document's [`SurfaceCache`](super::SurfaceCache).
     pub fn surface_kept(&self, id: EntityId) -> Result<SurfaceGeom> {
-        match self.doc.surface_cache.get(self.cache_key(id)).as_deref() {
+        match self.cache_key(id).and_then(|key| self.doc.surface_cache.get(key)).as_deref() {
             Some(CachedSurface::Geom(g)) => Ok(g.clone()),
             Some(CachedSurface::Net(net)) => self.net_surface(self.index(id)?, net).map(SurfaceGeom::Nurbs),
             None => self.surface(id),
@@ -479,7 +482,9 @@ impl<'a> Ctx<'a> {
 
     /// Keeps `g`, the surface `#id`, in the document's cache.
     pub fn keep_surface(&self, id: EntityId, g: &SurfaceGeom) {
-        self.doc.surface_cache.put(self.cache_key(id), CachedSurface::Geom(g.clone()));
+        if let Some(key) = self.cache_key(id) {
+            self.doc.surface_cache.put(key, CachedSurface::Geom(g.clone()));
+        }
     }
 
     fn surface_inner(&self, k: usize, body: Rc<Body<'a>>) -> Result<SurfaceGeom> {
@@ -609,7 +614,9 @@ impl<'a> Ctx<'a> {
             n_v: net.counts.1,
             rational,
         };
-        self.doc.surface_cache.put(self.cache_key(id), CachedSurface::Net(net));
+        if let Some(key) = self.cache_key(id) {
+            self.doc.surface_cache.put(key, CachedSurface::Net(net));
+        }
         Ok(kind)
     }
 

@@ -26,8 +26,8 @@ pub(crate) use topology::{Link, Occurrence};
 /// Surfaces [`Document::faces`] read to classify them, kept for the conversion that
 /// usually follows ([`Document::faces_nurbs`]): analytic surfaces whole, B-spline
 /// surfaces up to their control points' references (the points' coordinates are read
-/// when the face is converted). Keyed by instance id and the bits of the angle unit's
-/// scale the surface was read with. Emptied by every edit; a copy of the document starts
+/// when the face is converted). Keyed by instance position and the bits of the angle
+/// unit's scale the surface was read with. Emptied by every edit; a copy of the document starts
 /// empty.
 #[derive(Debug, Default)]
 pub(crate) struct SurfaceCache(std::sync::Mutex<FxHashMap<(u64, u64), std::sync::Arc<geometry::CachedSurface>>>);
@@ -211,12 +211,14 @@ pub(crate) struct Ctx<'d> {
     pub length_scale: f64,
     pub angle_scale: f64,
     stack: RefCell<Vec<u64>>,
-    /// Edge geometry by `EDGE_CURVE` id.
-    edges: RefCell<FxHashMap<u64, Rc<topology::EdgeGeometry>>>,
-    /// Units by instance id.
-    units: RefCell<FxHashMap<u64, units::Unit>>,
-    /// Vertex points by `VERTEX_POINT` id (a vertex ends several edges).
-    vertices: RefCell<FxHashMap<u64, nalgebra::Point3<f64>>>,
+    // The caches below are keyed by instance position, which the reader gives, not by
+    // the file's ids: a hostile file could choose ids that collide in the fast hash.
+    /// Edge geometry by `EDGE_CURVE` position.
+    edges: RefCell<FxHashMap<usize, Rc<topology::EdgeGeometry>>>,
+    /// Units by instance position.
+    units: RefCell<FxHashMap<usize, units::Unit>>,
+    /// Vertex points by `VERTEX_POINT` position (a vertex ends several edges).
+    vertices: RefCell<FxHashMap<usize, nalgebra::Point3<f64>>>,
     /// The parameter stack every record of this context is read with.
     params: RefCell<Vec<crate::read::param::Param<'d>>>,
 }

@@ -942,20 +942,21 @@ impl Ctx<'_> {
     /// An edge's curve, its parameter range along the curve's direction, and its vertex
     /// points (local coordinates); read once per context (an edge bounds two faces).
     pub fn edge_geometry(&self, e: EntityId) -> Result<std::rc::Rc<EdgeGeometry>> {
-        if let Some(g) = self.edges.borrow().get(&e.0) {
+        let k = self.index(e)?;
+        if let Some(g) = self.edges.borrow().get(&k) {
             return Ok(std::rc::Rc::clone(g));
         }
         let g = std::rc::Rc::new(self.read_edge_geometry(e)?);
-        self.edges.borrow_mut().insert(e.0, std::rc::Rc::clone(&g));
+        self.edges.borrow_mut().insert(k, std::rc::Rc::clone(&g));
         Ok(g)
     }
 
     fn read_edge_geometry(&self, e: EntityId) -> Result<EdgeGeometry> {
         let vp = |v: EntityId| -> Result<Point3<f64>> {
-            if let Some(&p) = self.vertices.borrow().get(&v.0) {
+            let k = self.index(v)?;
+            if let Some(&p) = self.vertices.borrow().get(&k) {
                 return Ok(p);
             }
-            let k = self.index(v)?;
             let p = match self.flat::<1>(k, b"VERTEX_POINT") {
                 Some([Flat::Ref(p)]) => self.point(p)?,
                 _ => {
@@ -964,7 +965,7 @@ impl Ctx<'_> {
                     self.point(vr.reference(1)?)?
                 }
             };
-            self.vertices.borrow_mut().insert(v.0, p);
+            self.vertices.borrow_mut().insert(k, p);
             Ok(p)
         };
         let (p0, p1, c, same) = match self.flat::<4>(self.index(e)?, b"EDGE_CURVE") {

@@ -66,11 +66,12 @@ impl Ctx<'_> {
     /// A unit instance, read once per context (a context's uncertainty names its length
     /// unit again, and the contexts of an assembly's parts often share their units).
     pub fn unit(&self, id: EntityId) -> Result<Unit> {
-        if let Some(u) = self.units.borrow().get(&id.0) {
+        let k = self.index(id)?;
+        if let Some(u) = self.units.borrow().get(&k) {
             return Ok(u.clone());
         }
         let u = self.read_unit(id)?;
-        self.units.borrow_mut().insert(id.0, u.clone());
+        self.units.borrow_mut().insert(k, u.clone());
         Ok(u)
     }
 
