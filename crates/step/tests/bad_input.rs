@@ -34,6 +34,11 @@ fn dangling_reference() {
     let e = Document::parse(wrap("#1 = VERTEX_POINT('',#2);\n#3 = VERTEX_POINT('',#1);\n").as_bytes()).unwrap_err();
     assert!(matches!(e, Error::DanglingReference { target: EntityId(2), .. }), "{e}");
     assert_eq!(pos(&e), (6, 22, Some(EntityId(1))));
+    // Held by a later instance, after a complex one.
+    let data = "#1 = VERTEX_POINT('',#3);\n#4 = ( A(#1) B() );\n#3 = VERTEX_POINT('',\n#9);\n";
+    let e = Document::parse(wrap(data).as_bytes()).unwrap_err();
+    assert!(matches!(e, Error::DanglingReference { target: EntityId(9), .. }), "{e}");
+    assert_eq!(pos(&e), (9, 1, Some(EntityId(3))));
 }
 
 #[test]

@@ -266,10 +266,9 @@ fn fast_forms() -> bool {
 #[derive(Default)]
 struct Gathered {
     instances: Vec<Instance>,
-    /// Every reference: target id and byte offset.
+    /// Every reference: target id and byte offset (inside the instance that holds it:
+    /// instances come in file order, so the holder is found by the offset when needed).
     refs: Vec<(u64, usize)>,
-    /// The position in `instances` of the instance holding each reference.
-    ref_owner: Vec<u32>,
     max_id: u64,
 }
 
@@ -283,8 +282,6 @@ impl Gathered {
             self.max_id = max_id;
             return;
         }
-        let base = self.instances.len() as u32;
-        self.ref_owner.extend(other.ref_owner.into_iter().map(|k| k + base));
         self.instances.extend(other.instances);
         self.refs.extend(other.refs);
         self.max_id = self.max_id.max(other.max_id);
@@ -394,7 +391,6 @@ impl Reader<'_> {
                         }
                         _ => self.expect(Kind::Semicolon, "';' after an instance")?,
                     };
-                    g.ref_owner.resize(g.refs.len(), g.instances.len() as u32);
                     g.max_id = g.max_id.max(id);
                     g.instances.push(Instance {
                         id,
@@ -455,7 +451,6 @@ impl Reader<'_> {
             if i == 1 {
                 all.instances.reserve(n_inst.saturating_sub(all.instances.len()));
                 all.refs.reserve(n_refs.saturating_sub(all.refs.len()));
-                all.ref_owner.reserve(n_refs.saturating_sub(all.ref_owner.len()));
             }
             match result {
                 Ok((piece, DataEnd::Stop)) if Some(pos) == cuts.get(i).copied() => all.append(piece),
@@ -567,6 +562,12 @@ impl Document {
                     let endsec = if bytes.len() - r.lx.pos >= parallel_bytes {
                         r.data_parallel(&mut data)?
                     } else {
+                        // Room for the instances and references of a typical file (about
+                        // 40 bytes per instance and 20 per reference), so that the vectors
+                        // do not grow and copy themselves a dozen times.
+                        let rest = bytes.len() - r.lx.pos;
+                        data.instances.reserve(rest / 40);
+                        data.refs.reserve(rest / 20);
                         match r.instances(&mut data, None)? {
                             DataEnd::Endsec(at) => at,
                             DataEnd::Stop => unreachable!("no stop was given"),
@@ -593,7 +594,7 @@ impl Document {
             }
         }
 
-        let Gathered { instances, refs, ref_owner, max_id } = data;
+        let Gathered { instances, refs, max_id } = data;
         // Index. A dense table when ids are compact (its size is bounded by the input
         // length), a hash map otherwise.
         let n = instances.len();
@@ -614,10 +615,11 @@ impl Document {
             }
             index.insert(inst.id, k);
         }
-        for (i, &(target, offset)) in refs.iter().enumerate() {
+        for &(target, offset) in &refs {
             if index.get(target).is_none() {
                 let mut at = position(bytes, offset);
-                at.id = ref_owner.get(i).map(|&k| EntityId(instances[k as usize].id));
+                let holder = instances.partition_point(|inst| inst.start <= offset).checked_sub(1);
+                at.id = holder.map(|k| EntityId(instances[k].id));
                 return Err(Error::DanglingReference { at, target: EntityId(target) });
             }
         }
