@@ -291,6 +291,10 @@ impl<'a> Ctx<'a> {
             if Circle::try_new(frame, a).is_ok() {
                 return Ok(CurveGeom::Conic { frame, a, b: a });
             }
+        } else if matches!(self.doc.name_bytes(k), b"SURFACE_CURVE" | b"SEAM_CURVE" | b"INTERSECTION_CURVE") {
+            if let Some([Flat::Ref(c), _, _]) = self.flat_any::<3>(k) {
+                return self.curve(c);
+            }
         }
         let body = self.body(k)?;
         if let Body::Complex(_) = &*body {

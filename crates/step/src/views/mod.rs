@@ -285,6 +285,21 @@ impl<'d> Ctx<'d> {
         flat::flat(self.doc.text(k), self.doc.instances[k].body as usize, name)
     }
 
+    /// [`flat`](Self::flat) with `strings` leading strings instead of one.
+    pub fn flat_after<const N: usize>(&self, k: usize, name: &[u8], strings: usize) -> Option<[flat::Flat; N]> {
+        flat::flat_after(self.doc.text(k), self.doc.instances[k].body as usize, name, strings)
+    }
+
+    /// [`flat`](Self::flat) of the instance at `k` under its own name, whatever it is.
+    pub fn flat_any<const N: usize>(&self, k: usize) -> Option<[flat::Flat; N]> {
+        flat::flat(self.doc.text(k), self.doc.instances[k].body as usize, self.doc.name_bytes(k))
+    }
+
+    /// The references of a [`flat::Flat::List`] of the instance at `k` ([`flat::ref_list`]).
+    pub fn ref_list(&self, k: usize, span: (usize, usize)) -> Option<Vec<EntityId>> {
+        flat::ref_list(self.doc.text(k), span)
+    }
+
     /// The simple record of `#id`, whatever its name.
     pub fn any(&self, id: EntityId) -> Result<Rec<'d>> {
         let k = self.index(id)?;

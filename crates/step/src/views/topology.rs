@@ -300,19 +300,45 @@ impl Ctx<'_> {
         }
         let s = rep_scale.get(&rep.0).copied().unwrap_or(1.0);
         let mut run = Vec::new();
-        for item in self.any(rep)?.refs(1)? {
+        let kr = self.index(rep)?;
+        let items = match self.flat_any::<2>(kr) {
+            Some([Flat::List(a, b), _]) => self.ref_list(kr, (a, b)),
+            _ => None,
+        };
+        let items = match items {
+            Some(items) => items,
+            None => self.any(rep)?.refs(1)?,
+        };
+        for item in items {
             let k = self.index(item)?;
             if self.doc.instances[k].complex || self.doc.name_of(k) != "MAPPED_ITEM" {
                 run.push(item);
                 continue;
             }
             self.push_run(rep, world * Matrix4::new_scaling(s), &mut run, tree, walk, out)?;
-            let mi = self.any(item)?;
-            mi.arity(3)?;
-            let source = mi.reference(1)?;
-            let map = self.simple(source, "REPRESENTATION_MAP")?;
-            map.arity(2)?;
-            let mapped = map.reference(1)?;
+            // Read flat when the item and its map both are (every reading below then
+            // succeeds as the general one would); the general readings' results are kept
+            // and their errors reported in the general order.
+            let flat = match self.flat::<2>(k, b"MAPPED_ITEM") {
+                Some([Flat::Ref(source), Flat::Ref(target)]) => {
+                    match self.flat_after::<2>(self.index(source)?, b"REPRESENTATION_MAP", 0) {
+                        Some([Flat::Ref(origin), Flat::Ref(mapped)]) => Some((origin, mapped, target)),
+                        _ => None,
+                    }
+                }
+                _ => None,
+            };
+            let (origin, mapped, target) = match flat {
+                Some((origin, mapped, target)) => (Ok(origin), mapped, Ok(target)),
+                None => {
+                    let mi = self.any(item)?;
+                    mi.arity(3)?;
+                    let source = mi.reference(1)?;
+                    let map = self.simple(source, "REPRESENTATION_MAP")?;
+                    map.arity(2)?;
+                    (map.reference(0), map.reference(1)?, mi.reference(2))
+                }
+            };
             if walk.stack.contains(&mapped.0) {
                 return Err(Error::ReferenceCycle { at: self.doc.position_of_id(item), target: mapped });
             }
@@ -320,8 +346,8 @@ impl Ctx<'_> {
                 return Err(Error::Limit { at: self.doc.position_of_id(item), what: "mapped items nested too deeply" });
             }
             let Some(&sc) = rep_scale.get(&mapped.0) else { continue };
-            let from = placement_matrix(&self.placement(map.reference(0)?)?, sc);
-            let to = placement_matrix(&self.placement(mi.reference(2)?)?, s);
+            let from = placement_matrix(&self.placement(origin?)?, sc);
+            let to = placement_matrix(&self.placement(target?)?, s);
             // OCCT's order, not ISO's: see `descend`'s docs.
             let rel = Matrix4::new_scaling(1.0 / s) * rigid_inverse(&from) * to;
             let w = world * Matrix4::new_scaling(s) * rel * Matrix4::new_scaling(1.0 / sc);
@@ -436,6 +462,9 @@ impl Ctx<'_> {
         let name = self.doc.name_of(k);
         match name {
             "MANIFOLD_SOLID_BREP" | "FACETED_BREP" => {
+                if let Some([Flat::Ref(shell)]) = self.flat_any::<1>(k) {
+                    return self.item_faces(shell, out, depth + 1);
+                }
                 let r = self.any(id)?;
                 r.arity(2)?;
                 self.item_faces(r.reference(1)?, out, depth + 1)
@@ -458,9 +487,19 @@ impl Ctx<'_> {
                 Ok(())
             }
             "CLOSED_SHELL" | "OPEN_SHELL" | "CONNECTED_FACE_SET" => {
-                let r = self.any(id)?;
-                r.arity(2)?;
-                for f in r.refs(1)? {
+                let fast = match self.flat_any::<1>(k) {
+                    Some([Flat::List(a, b)]) => self.ref_list(k, (a, b)),
+                    _ => None,
+                };
+                let faces = match fast {
+                    Some(faces) => faces,
+                    None => {
+                        let r = self.any(id)?;
+                        r.arity(2)?;
+                        r.refs(1)?
+                    }
+                };
+                for f in faces {
                     self.item_faces(f, out, depth + 1)?;
                 }
                 Ok(())
@@ -707,12 +746,23 @@ impl Document {
 
     /// A face's record: its surface, its own sense, and its bounds.
     fn face_record(&self, ctx: &Ctx<'_>, fid: EntityId) -> Result<FaceRecord> {
-        let r = ctx.any(fid)?;
-        r.arity(4)?;
-        let surface = r.reference(2)?;
-        let sense = r.bool(3)?;
-        let mut bounds = Vec::new();
-        for b in r.refs(1)? {
+        let kf = ctx.index(fid)?;
+        let fast = match ctx.flat_any::<3>(kf) {
+            Some([Flat::List(a, b), Flat::Ref(surface), Flat::Bool(sense)]) => {
+                ctx.ref_list(kf, (a, b)).map(|bounds| (surface, sense, bounds))
+            }
+            _ => None,
+        };
+        let (surface, sense, listed) = match fast {
+            Some(read) => read,
+            None => {
+                let r = ctx.any(fid)?;
+                r.arity(4)?;
+                (r.reference(2)?, r.bool(3)?, r.refs(1)?)
+            }
+        };
+        let mut bounds = Vec::with_capacity(listed.len());
+        for b in listed {
             let k = ctx.index(b)?;
             if let Some([Flat::Ref(lp), Flat::Bool(sense)]) =
                 ctx.flat::<2>(k, b"FACE_OUTER_BOUND").or_else(|| ctx.flat::<2>(k, b"FACE_BOUND"))
@@ -908,13 +958,24 @@ impl Ctx<'_> {
     /// `(EDGE_CURVE, orientation)` of each `ORIENTED_EDGE` of an `EDGE_LOOP` (empty for
     /// vertex and poly loops).
     pub fn loop_edges(&self, lp: EntityId) -> Result<Vec<(EntityId, bool)>> {
-        let r = self.any(lp)?;
-        if r.name() != "EDGE_LOOP" {
-            return Ok(vec![]);
-        }
-        r.arity(2)?;
-        let mut out = Vec::new();
-        for oe in r.refs(1)? {
+        let k = self.index(lp)?;
+        let fast = match self.flat::<1>(k, b"EDGE_LOOP") {
+            Some([Flat::List(a, b)]) => self.ref_list(k, (a, b)),
+            _ => None,
+        };
+        let edges = match fast {
+            Some(edges) => edges,
+            None => {
+                let r = self.any(lp)?;
+                if r.name() != "EDGE_LOOP" {
+                    return Ok(vec![]);
+                }
+                r.arity(2)?;
+                r.refs(1)?
+            }
+        };
+        let mut out = Vec::with_capacity(edges.len());
+        for oe in edges {
             // The general reading below reads only the edge and its orientation.
             if let Some([_, _, Flat::Ref(e), Flat::Bool(b)]) = self.flat::<4>(self.index(oe)?, b"ORIENTED_EDGE") {
                 out.push((e, b));
