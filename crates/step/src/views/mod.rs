@@ -300,6 +300,15 @@ impl<'d> Ctx<'d> {
         flat::ref_list(self.doc.text(k), span)
     }
 
+    /// The references of the instance at `k` when it is `name('...', (#a, #b, …))` read
+    /// flat (an edge loop, a shell); `None` otherwise.
+    pub fn flat_refs(&self, k: usize, name: &[u8]) -> Option<Vec<EntityId>> {
+        match self.flat::<1>(k, name)? {
+            [flat::Flat::List(a, b)] => self.ref_list(k, (a, b)),
+            _ => None,
+        }
+    }
+
     /// The simple record of `#id`, whatever its name.
     pub fn any(&self, id: EntityId) -> Result<Rec<'d>> {
         let k = self.index(id)?;

@@ -487,11 +487,7 @@ impl Ctx<'_> {
                 Ok(())
             }
             "CLOSED_SHELL" | "OPEN_SHELL" | "CONNECTED_FACE_SET" => {
-                let fast = match self.flat_any::<1>(k) {
-                    Some([Flat::List(a, b)]) => self.ref_list(k, (a, b)),
-                    _ => None,
-                };
-                let faces = match fast {
+                let faces = match self.flat_refs(k, self.doc.name_bytes(k)) {
                     Some(faces) => faces,
                     None => {
                         let r = self.any(id)?;
@@ -959,11 +955,7 @@ impl Ctx<'_> {
     /// vertex and poly loops).
     pub fn loop_edges(&self, lp: EntityId) -> Result<Vec<(EntityId, bool)>> {
         let k = self.index(lp)?;
-        let fast = match self.flat::<1>(k, b"EDGE_LOOP") {
-            Some([Flat::List(a, b)]) => self.ref_list(k, (a, b)),
-            _ => None,
-        };
-        let edges = match fast {
+        let edges = match self.flat_refs(k, b"EDGE_LOOP") {
             Some(edges) => edges,
             None => {
                 let r = self.any(lp)?;
