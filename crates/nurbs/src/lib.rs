@@ -5,8 +5,10 @@
 //! evaluation, derivatives of any order, knot insertion (up to multiplicity p + 1),
 //! refinement and removal, degree elevation (periodic splines stay periodic), degree
 //! reduction and removal of every removable knot within a tolerance (with deviation
-//! bounds), Bézier decomposition, splitting, reversal, iso and boundary curves, and
-//! control points at infinity (weight 0, evaluated in homogeneous form). It knows nothing of files or deformations; see `cadmorph-iges`,
+//! bounds), Bézier decomposition, splitting, reversal, iso and boundary curves, control
+//! points at infinity (weight 0, evaluated in homogeneous form), and the exact extremes of
+//! a polynomial curve's coordinate ([`NurbsCurve::extreme_params`], Bernstein root
+//! isolation). It knows nothing of files or deformations; see `cadmorph-iges`,
 //! `cadmorph-step` and `cadmorph-morph`.
 //!
 //! The algorithms are those of Piegl & Tiller, *The NURBS Book* (2nd ed.), cited by

@@ -35,10 +35,20 @@
 //! only when a view asks, and unknown entities are never touched. truck-stepio is used
 //! in the tests as a second, independent reader of what this crate writes.
 //!
+//! The views read the records they need from the bytes where a record has the plain
+//! shape most writers give it (a point's three numbers, a placement's or an edge's
+//! references and flags: `views::flat`), and through the general parameter reader
+//! otherwise; each shortcut is property-tested against that reader, which also gives
+//! every error. No crate reads Part 21 records lazily like this: the general reader
+//! builds a parameter tree, several allocations per record, and on a small file that was
+//! most of the time of the faces' conversion.
+//!
 //! Dependencies beyond the workspace's: `fast-float2` reads the coordinates of the
 //! `CARTESIAN_POINT`s of a pole net straight from the bytes (the same correctly rounded
-//! value as `str::parse`, without the UTF-8 check and about twice as fast), and `rayon`
-//! reads large pole nets on all cores.
+//! value as `str::parse`, without the UTF-8 check and about twice as fast), `rayon`
+//! reads large pole nets on all cores, `memchr` finds entity names in instance texts,
+//! and `rustc-hash` hashes the views' caches (keyed by instance position, which the
+//! reader assigns, so a file cannot choose colliding keys).
 //!
 //! The crate has no feature flags.
 
