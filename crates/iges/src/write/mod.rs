@@ -58,11 +58,6 @@ impl Layout {
         let starts = std::iter::once(0).chain(self.ends.iter().copied());
         starts.zip(&self.ends).map(|(a, &b)| &self.text[a..b])
     }
-
-    /// How many lines.
-    pub fn len(&self) -> usize {
-        self.ends.len()
-    }
 }
 
 /// Lays a record out in lines of at most `width` columns: each value followed by the
@@ -71,44 +66,60 @@ impl Layout {
 pub(crate) fn layout(values: &[Value], pd: u8, rd: u8, width: usize) -> Layout {
     let mut text = Vec::with_capacity(values.len() * 20);
     let mut ends = Vec::new();
-    let mut start = 0;
+    lay_out(values, pd, rd, width, &mut text, |text, _| ends.push(text.len()));
+    Layout { text, ends }
+}
+
+/// [`layout`] written straight into `out`: each line's text is appended, then
+/// `end_line(out, start)` is called with the offset where that line's text starts, and
+/// may append what closes the line (a P line's padding, pointer and sequence number).
+/// Each value is formatted in place; only one that does not fit its line moves.
+pub(crate) fn lay_out(
+    values: &[Value],
+    pd: u8,
+    rd: u8,
+    width: usize,
+    out: &mut Vec<u8>,
+    mut end_line: impl FnMut(&mut Vec<u8>, usize),
+) {
+    let mut start = out.len();
     let mut tok = Vec::new();
     for (k, v) in values.iter().enumerate() {
-        // Each value is written in place; only one that does not fit the line moves.
-        let at = text.len();
-        format_value(v, &mut text);
-        text.push(if k + 1 == values.len() { rd } else { pd });
-        let len = text.len() - at;
+        let at = out.len();
+        format_value(v, out);
+        out.push(if k + 1 == values.len() { rd } else { pd });
+        let len = out.len() - at;
         if at - start + len <= width {
             continue;
         }
+        tok.clear();
+        tok.extend_from_slice(&out[at..]);
+        out.truncate(at);
         if len <= width && !matches!(v, Value::Text(_)) {
-            ends.push(at);
-            start = at;
+            // To the next line whole.
+            end_line(out, start);
+            start = out.len();
+            out.extend_from_slice(&tok);
             continue;
         }
         // A long string: fill the line, continue on the next ones.
-        tok.clear();
-        tok.extend_from_slice(&text[at..]);
-        text.truncate(at);
         let mut rest = &tok[..];
         loop {
-            let room = width - (text.len() - start);
+            let room = width - (out.len() - start);
             let take = room.min(rest.len());
-            text.extend_from_slice(&rest[..take]);
+            out.extend_from_slice(&rest[..take]);
             rest = &rest[take..];
             if rest.is_empty() {
                 break;
             }
-            ends.push(text.len());
-            start = text.len();
+            end_line(out, start);
+            start = out.len();
         }
     }
     if values.is_empty() {
-        text.push(rd);
+        out.push(rd);
     }
-    ends.push(text.len());
-    Layout { text, ends }
+    end_line(out, start);
 }
 
 /// [`layout`] as one vector per line.

@@ -2,7 +2,7 @@
 
 use cadmorph_nurbs::{NurbsCurve, NurbsSurface};
 
-use super::{layout, layout_record, put_number, seq};
+use super::{layout_record, put_number, seq};
 use crate::document::{Document, EntityId, Status, Value};
 use crate::edit::{bspline_curve_values, bspline_surface_values};
 use crate::global::Units;
@@ -209,11 +209,30 @@ impl DocumentBuilder {
         for (k, l) in g_lines.iter().enumerate() {
             line(&mut out, l, 72, format!("G{}", seq(k + 1, true)).as_bytes());
         }
-        let records: Vec<super::Layout> =
-            self.entities.iter().map(|e| layout(&e.values, b',', b';', P_WIDTH)).collect();
-        out.reserve(records.iter().map(|r| r.len() * 81).sum::<usize>() + 162 * records.len());
+        // The D section is two 81-byte lines per entity (72 columns of fields, the
+        // section's 8-column tail, the line feed) that need each record's P line count:
+        // room is left for it here and filled once the P section, written right after
+        // it straight from the values, has told the counts.
+        let d_start = out.len();
+        let n_entities = self.entities.len();
+        out.resize(d_start + 2 * 81 * n_entities, b' ');
+        let mut p_lines = Vec::with_capacity(n_entities);
+        let mut n = 0;
+        for (k, e) in self.entities.iter().enumerate() {
+            let before = n;
+            super::lay_out(&e.values, b',', b';', P_WIDTH, &mut out, |out, start| {
+                out.resize(out.len().max(start + P_WIDTH), b' ');
+                put_number(out, 2 * k + 1, 8, false);
+                out.push(b'P');
+                n += 1;
+                put_number(out, n, 7, true);
+                out.extend_from_slice(eol);
+            });
+            p_lines.push(n - before);
+        }
+        let mut d_section = Vec::with_capacity(2 * 81 * n_entities);
         let mut p_next = 1usize;
-        for (k, (e, rec)) in self.entities.iter().zip(&records).enumerate() {
+        for (k, (e, lines)) in self.entities.iter().zip(&p_lines).enumerate() {
             let ty = match e.values.first() {
                 Some(Value::Integer(t)) => *t,
                 _ => 0,
@@ -221,22 +240,17 @@ impl DocumentBuilder {
             let s = e.status;
             let status = format!("{:02}{:02}{:02}{:02}", s.blank, s.subordinate, s.entity_use, s.hierarchy);
             let a = format!("{ty:>8}{p_next:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{status:>8}", 0, 0, 0, 0, 0, 0);
-            line(&mut out, a.as_bytes(), 72, format!("D{}", seq(2 * k + 1, true)).as_bytes());
-            let b = format!("{ty:>8}{:>8}{:>8}{:>8}{:>8}{:8}{:8}{:8}{:>8}", 0, 0, rec.len(), e.form, "", "", "", 0);
-            line(&mut out, b.as_bytes(), 72, format!("D{}", seq(2 * k + 2, true)).as_bytes());
-            p_next += rec.len();
+            line(&mut d_section, a.as_bytes(), 72, format!("D{}", seq(2 * k + 1, true)).as_bytes());
+            let b = format!("{ty:>8}{:>8}{:>8}{:>8}{:>8}{:8}{:8}{:8}{:>8}", 0, 0, lines, e.form, "", "", "", 0);
+            line(&mut d_section, b.as_bytes(), 72, format!("D{}", seq(2 * k + 2, true)).as_bytes());
+            p_next += lines;
         }
-        let mut n = 0;
-        for (k, rec) in records.iter().enumerate() {
-            for l in rec.lines() {
-                n += 1;
-                out.extend_from_slice(l);
-                out.resize(out.len() + P_WIDTH.saturating_sub(l.len()), b' ');
-                put_number(&mut out, 2 * k + 1, 8, false);
-                out.push(b'P');
-                put_number(&mut out, n, 7, true);
-                out.extend_from_slice(eol);
-            }
+        if d_section.len() == 2 * 81 * n_entities {
+            out[d_start..d_start + d_section.len()].copy_from_slice(&d_section);
+        } else {
+            // A field wider than its 8 columns (never from this builder's numbers): the
+            // section takes the room it needs.
+            out.splice(d_start..d_start + 2 * 81 * n_entities, d_section);
         }
         let t_body = format!(
             "S{}G{}D{}P{}",
