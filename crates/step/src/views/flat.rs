@@ -37,7 +37,8 @@ pub(crate) enum Flat {
     Number(f64),
 }
 
-fn blanks(t: &[u8], mut i: usize) -> usize {
+/// The end of the blanks (space, tab, line breaks) from `i`.
+pub(crate) fn blanks(t: &[u8], mut i: usize) -> usize {
     while i < t.len() && matches!(t[i], b' ' | b'\n' | b'\r' | b'\t') {
         i += 1;
     }
@@ -73,13 +74,7 @@ pub(crate) fn flat_after<const N: usize>(
             }
             i = blanks(t, i + 1);
         }
-        if t.get(i)? != &b'\'' {
-            return None;
-        }
-        i = t[i + 1..].iter().position(|&b| b == b'\'')? + i + 2;
-        if t.get(i) == Some(&b'\'') {
-            return None;
-        }
+        i = plain_string_end(t, i)?;
     }
     let mut out = [Flat::Unset; N];
     for (n, slot) in out.iter_mut().enumerate() {
@@ -121,6 +116,16 @@ pub(crate) fn flat_after<const N: usize>(
     }
     i = blanks(t, i);
     (t.get(i)? == &b')').then_some(out)
+}
+
+/// The end of the string that opens at `i` (after its closing `'`), for a string with no
+/// doubled apostrophe; `None` otherwise.
+pub(crate) fn plain_string_end(t: &[u8], i: usize) -> Option<usize> {
+    if t.get(i)? != &b'\'' {
+        return None;
+    }
+    let end = t[i + 1..].iter().position(|&b| b == b'\'')? + i + 2;
+    (t.get(end) != Some(&b'\'')).then_some(end)
 }
 
 /// The end of the list that opens at `i` (after its `)`): `None` when it holds a string,

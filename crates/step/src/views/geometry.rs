@@ -747,28 +747,14 @@ fn fast_point(text: &[u8], body: usize) -> Option<Point3<f64>> {
 /// Reads `KEYWORD ( '...' , ( x , y , z ) )` (a `CARTESIAN_POINT` or `DIRECTION`)
 /// directly; `None` when the text has any other shape.
 fn fast_triple(text: &[u8], body: usize, keyword: &[u8]) -> Option<[f64; 3]> {
+    use super::flat::{blanks as ws, plain_string_end};
     let t = &text[body..];
     let t = t.strip_prefix(keyword)?;
-    let mut i = 0;
-    let ws = |t: &[u8], mut i: usize| {
-        while i < t.len() && (t[i] == b' ' || t[i] == b'\n' || t[i] == b'\r' || t[i] == b'\t') {
-            i += 1;
-        }
-        i
-    };
-    i = ws(t, i);
+    let mut i = ws(t, 0);
     if t.get(i)? != &b'(' {
         return None;
     }
-    i = ws(t, i + 1);
-    if t.get(i)? != &b'\'' {
-        return None;
-    }
-    let close = t[i + 1..].iter().position(|&b| b == b'\'')? + i + 1;
-    if t.get(close + 1) == Some(&b'\'') {
-        return None;
-    }
-    i = ws(t, close + 1);
+    i = ws(t, plain_string_end(t, ws(t, i + 1))?);
     if t.get(i)? != &b',' {
         return None;
     }
