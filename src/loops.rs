@@ -10,7 +10,7 @@
 //! projected onto the surface): the loop of largest area is the outer one and runs
 //! counterclockwise around the face normal, the others are holes and run clockwise.
 
-use cadmorph_brep::pcurve::{signed_area, uv_polyline};
+use cadmorph_brep::pcurve::{signed_area, uv_polyline, Periods};
 use cadmorph_brep::{BoundedFace, CadDocument};
 use cadmorph_model::{Error, Model, Result};
 use cadmorph_nurbs::math::Point3;
@@ -30,7 +30,7 @@ pub(crate) fn bounded_face<D: CadDocument>(m: &Model<D>, i: usize, tol: f64) -> 
     if pieces.is_empty() {
         return Err(fail("a trimmed face without bound curves".into()));
     }
-    let mut loops = chain(pieces, tol).map_err(fail)?;
+    let loops = chain(pieces, tol).map_err(fail)?;
     let s = &face.surface;
     let polys: Vec<Vec<(f64, f64)>> = loops.iter().map(|lp| uv_polyline(s, lp, m.size())).collect();
     // A face whose loops all run along the sides of one box in (u, v) (a plane's
@@ -40,6 +40,17 @@ pub(crate) fn bounded_face<D: CadDocument>(m: &Model<D>, i: usize, tol: f64) -> 
         let sub = sub_surface(s, b).map_err(|e| fail(format!("cutting its surface to its box: {e}")))?;
         return Ok(BoundedFace::natural(sub, face.reversed, tol));
     }
+    // A face across its surface's seam (a shaft's side pierced where the seam runs, a
+    // torus band cut by a plane): loops that close in model space but not in (u, v) are
+    // built again in (u, v), cut at the seam.
+    let periods = Periods::of(s, 1e-7 * m.size());
+    let (mut loops, polys) = if polys.iter().zip(&loops).any(|(p, lp)| wraps(p, lp, s, periods, m.size())) {
+        seam_loops(s, &loops.concat(), periods, m.size()).ok_or_else(|| {
+            fail("its bounds close only across the seam of its closed surface, and do not close into loops when cut there".into())
+        })?
+    } else {
+        (loops, polys)
+    };
     let areas: Vec<f64> = polys.iter().map(|p| signed_area(p)).collect();
     let outer = (0..loops.len()).max_by(|&a, &b| areas[a].abs().total_cmp(&areas[b].abs())).unwrap_or(0);
     if areas[outer] == 0.0 {
@@ -206,4 +217,191 @@ fn sub_surface(s: &NurbsSurface, b: [f64; 4]) -> cadmorph_nurbs::Result<NurbsSur
         out = out.split_v(v1)?.0;
     }
     Ok(out)
+}
+
+/// Whether the loop `lp`, whose points in `(u, v)` are `uv` (as [`uv_polyline`] gives
+/// them), ends a whole period away from where it starts: it closes in model space only
+/// across the surface's seam.
+fn wraps(uv: &[(f64, f64)], lp: &[NurbsCurve], s: &NurbsSurface, periods: Periods, size: f64) -> bool {
+    let (Some(&first), Some(&last), Some(c)) = (uv.first(), uv.last(), lp.last()) else { return false };
+    let pr = s.project_near(&c.eval(*c.domain().end()), Some(last), 1e-12 * size, 1e-3 * size);
+    let end = periods.unwrap((pr.u, pr.v), last);
+    let off = |d: f64, p: Option<f64>| p.is_some_and(|p| d.abs() > 0.5 * p);
+    off(end.0 - first.0, periods.u) || off(end.1 - first.1, periods.v)
+}
+
+/// One piece of a loop built in `(u, v)`: its model-space curve and its points in
+/// `(u, v)` from start to end.
+struct UvPiece {
+    curve: NurbsCurve,
+    uv: Vec<(f64, f64)>,
+    /// One side of a piece along the seam line.
+    seam: bool,
+}
+
+/// The points of `c` in `(u, v)`, from start to end (`2 n + 1` samples, `n` its control
+/// points, 16 to 256), each projected from the one before and unwrapped across the seam.
+fn uv_path(s: &NurbsSurface, c: &NurbsCurve, periods: Periods, size: f64) -> Vec<(f64, f64)> {
+    let d = c.domain();
+    let n = (2 * c.control_points().len()).clamp(16, 256);
+    let mut out: Vec<(f64, f64)> = Vec::with_capacity(n + 1);
+    let mut near = None;
+    for k in 0..=n {
+        let t = d.start() + (d.end() - d.start()) * k as f64 / n as f64;
+        let pr = s.project_near(&c.eval(t), near, 1e-12 * size, 1e-3 * size);
+        near = Some((pr.u, pr.v));
+        out.push(out.last().map_or((pr.u, pr.v), |&last| periods.unwrap((pr.u, pr.v), last)));
+    }
+    out
+}
+
+/// The loops of a face on a closed surface built in its `(u, v)` from the model-space
+/// `pieces` of its bounds (in any order): each piece is cut where it crosses the seam
+/// line (`u = u0 + k P`, or in `v`) and each part moved by whole periods into the
+/// domain; a piece along the seam line is taken on both sides of the domain (a face
+/// runs along its seam once on each side); then the parts are chained by their ends in
+/// `(u, v)`, nearest first. Returns the loops and their points in `(u, v)` (as
+/// [`uv_polyline`] gives them), or `None` when the parts do not close into loops.
+#[allow(clippy::type_complexity)]
+fn seam_loops(
+    s: &NurbsSurface,
+    pieces: &[NurbsCurve],
+    periods: Periods,
+    size: f64,
+) -> Option<(Vec<Vec<NurbsCurve>>, Vec<Vec<(f64, f64)>>)> {
+    let (du, dv) = s.domain();
+    let lines = [(periods.u, *du.start()), (periods.v, *dv.start())];
+    let coord = |q: (f64, f64), k: usize| if k == 0 { q.0 } else { q.1 };
+    let set = |q: (f64, f64), k: usize, x: f64| if k == 0 { (x, q.1) } else { (q.0, x) };
+    let mut parts: Vec<UvPiece> = Vec::new();
+    // A seam a loop runs along twice is one piece here (its two sides come below).
+    let key = |c: &NurbsCurve| {
+        let d = c.domain();
+        let (a, b) = (c.eval(*d.start()), c.eval(*d.end()));
+        (a, b, c.eval(0.5 * (d.start() + d.end())))
+    };
+    let same = |x: &NurbsCurve, y: &NurbsCurve| {
+        let ((a, b, m), (p, q, r)) = (key(x), key(y));
+        let close = |u: Point3<f64>, w: Point3<f64>| (u - w).norm() <= 1e-9 * size;
+        close(m, r) && ((close(a, p) && close(b, q)) || (close(a, q) && close(b, p)))
+    };
+    let mut distinct: Vec<&NurbsCurve> = Vec::new();
+    for c in pieces {
+        if !distinct.iter().any(|d| same(d, c)) {
+            distinct.push(c);
+        }
+    }
+    for c in distinct {
+        let path = uv_path(s, c, periods, size);
+        // A piece along a seam line: its two sides.
+        let on_line = lines.iter().enumerate().find_map(|(k, &(p, x0))| {
+            let p = p?;
+            let x = coord(path[0], k);
+            let line = x0 + ((x - x0) / p).round() * p;
+            path.iter().all(|&q| (coord(q, k) - line).abs() <= 1e-9 * p).then_some((k, x0, p))
+        });
+        if let Some((k, x0, p)) = on_line {
+            for side in [x0, x0 + p] {
+                parts.push(UvPiece { curve: c.clone(), uv: path.iter().map(|&q| set(q, k, side)).collect(), seam: true });
+            }
+            continue;
+        }
+        // Cut where the path crosses a seam line strictly between two samples.
+        let d = c.domain();
+        let n = path.len() - 1;
+        let t_at = |i: usize| d.start() + (d.end() - d.start()) * i as f64 / n as f64;
+        let mut cuts: Vec<f64> = Vec::new();
+        for (k, &(p, x0)) in lines.iter().enumerate() {
+            let Some(p) = p else { continue };
+            let cell = |x: f64| ((x - x0) / p).floor();
+            for i in 0..n {
+                let (a, b) = (coord(path[i], k), coord(path[i + 1], k));
+                if cell(a) == cell(b) {
+                    continue;
+                }
+                let line = x0 + cell(a).max(cell(b)) * p;
+                if (a - line).abs() <= 1e-9 * p || (b - line).abs() <= 1e-9 * p {
+                    continue;
+                }
+                // Bisection on the unwrapped coordinate between the two samples.
+                let (mut lo, mut hi) = (t_at(i), t_at(i + 1));
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    let pr = s.project_near(&c.eval(mid), Some(path[i]), 1e-12 * size, 1e-3 * size);
+                    let x = coord(periods.unwrap((pr.u, pr.v), path[i]), k);
+                    if (x < line) == (a < line) {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                cuts.push(0.5 * (lo + hi));
+            }
+        }
+        cuts.sort_by(f64::total_cmp);
+        let mut bounds = vec![*d.start()];
+        bounds.extend(cuts);
+        bounds.push(*d.end());
+        for w in bounds.windows(2) {
+            let part = if w[0] == *d.start() && w[1] == *d.end() { c.clone() } else { c.segment(w[0], w[1]).ok()? };
+            let mut uv = uv_path(s, &part, periods, size);
+            // Moved by whole periods so that its middle lies in the domain.
+            let mid = uv[uv.len() / 2];
+            for (k, &(p, x0)) in lines.iter().enumerate() {
+                let Some(p) = p else { continue };
+                let shift = -((coord(mid, k) - x0) / p).floor() * p;
+                for q in &mut uv {
+                    *q = set(*q, k, coord(*q, k) + shift);
+                }
+            }
+            parts.push(UvPiece { curve: part, uv, seam: false });
+        }
+    }
+    // Chain by ends in (u, v).
+    let diag = (du.end() - du.start()).hypot(dv.end() - dv.start());
+    let tol = 1e-6 * diag;
+    let dist = |a: (f64, f64), b: (f64, f64)| (a.0 - b.0).hypot(a.1 - b.1);
+    let mut used = vec![false; parts.len()];
+    let mut loops = Vec::new();
+    let mut polys = Vec::new();
+    // Loops start from a part off the seam lines (a seam side left over is not a bound).
+    while let Some(first) = (0..parts.len()).find(|&i| !used[i] && !parts[i].seam) {
+        used[first] = true;
+        let start = parts[first].uv[0];
+        let mut end = *parts[first].uv.last()?;
+        let mut lp = vec![parts[first].curve.clone()];
+        let mut poly: Vec<(f64, f64)> = parts[first].uv[..parts[first].uv.len() - 1].to_vec();
+        while dist(end, start) > tol {
+            let mut best: Option<(f64, usize, bool)> = None;
+            for (i, part) in parts.iter().enumerate() {
+                if used[i] {
+                    continue;
+                }
+                for (q, rev) in [(part.uv[0], false), (*part.uv.last()?, true)] {
+                    let d = dist(q, end);
+                    if best.is_none_or(|b| d < b.0) {
+                        best = Some((d, i, rev));
+                    }
+                }
+            }
+            let (d, i, rev) = best?;
+            if d > tol {
+                return None;
+            }
+            used[i] = true;
+            let mut uv = parts[i].uv.clone();
+            let mut curve = parts[i].curve.clone();
+            if rev {
+                uv.reverse();
+                curve = curve.reversed();
+            }
+            end = *uv.last()?;
+            poly.extend_from_slice(&uv[..uv.len() - 1]);
+            lp.push(curve);
+        }
+        loops.push(lp);
+        polys.push(poly);
+    }
+    // Every part off the seam lines is in a loop.
+    (!loops.is_empty()).then_some((loops, polys))
 }
