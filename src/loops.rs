@@ -44,7 +44,23 @@ pub(crate) fn bounded_face<D: CadDocument>(m: &Model<D>, i: usize, tol: f64) -> 
     // torus band cut by a plane): loops that close in model space but not in (u, v) are
     // built again in (u, v), cut at the seam.
     let periods = Periods::of(s, 1e-7 * m.size());
-    let (mut loops, polys) = if polys.iter().zip(&loops).any(|(p, lp)| wraps(p, lp, s, periods, m.size())) {
+    let wrapping = polys.iter().zip(&loops).any(|(p, lp)| wraps(p, lp, s, periods, m.size()));
+    // A face across the seam that does not go all the way round (a torus band's end
+    // cut off across it): the seam is moved into the largest gap between its loops.
+    let mut moved = None;
+    if !wrapping {
+        let (du, dv) = s.domain();
+        for (k, p, x0) in [(0, periods.u, *du.start()), (1, periods.v, *dv.start())] {
+            let Some(p) = p else { continue };
+            let Some(c) = seam_in_gap(&polys, k, p, x0) else { continue };
+            let base = moved.as_ref().unwrap_or(s);
+            let r = if k == 0 { base.reseamed_u(c, 1e-7 * m.size()) } else { base.reseamed_v(c, 1e-7 * m.size()) };
+            moved = Some(r.map_err(|e| fail(format!("moving its surface's seam off the face: {e}")))?);
+        }
+    }
+    let s = moved.as_ref().unwrap_or(s);
+    let polys = if moved.is_some() { loops.iter().map(|lp| uv_polyline(s, lp, m.size())).collect() } else { polys };
+    let (mut loops, polys) = if wrapping {
         seam_loops(s, &loops.concat(), periods, m.size()).ok_or_else(|| {
             fail("its bounds close only across the seam of its closed surface, and do not close into loops when cut there".into())
         })?
@@ -67,7 +83,7 @@ pub(crate) fn bounded_face<D: CadDocument>(m: &Model<D>, i: usize, tol: f64) -> 
             *lp = lp.iter().rev().map(NurbsCurve::reversed).collect();
         }
     }
-    Ok(BoundedFace { surface: face.surface.clone(), reversed: face.reversed, loops })
+    Ok(BoundedFace { surface: s.clone(), reversed: face.reversed, loops })
 }
 
 fn ends(c: &NurbsCurve) -> (Point3<f64>, Point3<f64>) {
@@ -219,6 +235,47 @@ fn sub_surface(s: &NurbsSurface, b: [f64; 4]) -> cadmorph_nurbs::Result<NurbsSur
     Ok(out)
 }
 
+/// Where to move the seam of a closed direction (coordinate `k`, period `p`, domain
+/// from `x0`) so that no loop crosses it: the middle of the largest gap between the
+/// loops' ranges taken round the period; `None` when the seam at `x0` crosses no loop
+/// already (or the loops leave no gap).
+fn seam_in_gap(polys: &[Vec<(f64, f64)>], k: usize, p: f64, x0: f64) -> Option<f64> {
+    let mut arcs: Vec<(f64, f64)> = Vec::new();
+    for poly in polys {
+        let xs = poly.iter().map(|&q| coord(q, k));
+        let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
+        if !(hi - lo < p) {
+            return None;
+        }
+        let s = x0 + (lo - x0).rem_euclid(p);
+        arcs.push((s, s + (hi - lo)));
+    }
+    // The seam crosses a loop when an arc reaches past the domain's end.
+    let eps = 1e-9 * p;
+    if arcs.iter().all(|&(_, e)| e <= x0 + p + eps) {
+        return None;
+    }
+    arcs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut merged: Vec<(f64, f64)> = Vec::new();
+    for (s, e) in arcs {
+        match merged.last_mut() {
+            Some(last) if s <= last.1 => last.1 = last.1.max(e),
+            _ => merged.push((s, e)),
+        }
+    }
+    let n = merged.len();
+    let (mut best, mut at) = (0.0, None);
+    for i in 0..n {
+        let next = if i + 1 < n { merged[i + 1].0 } else { merged[0].0 + p };
+        let gap = next - merged[i].1;
+        if gap > best {
+            best = gap;
+            at = Some(merged[i].1 + 0.5 * gap);
+        }
+    }
+    at.filter(|_| best > eps)
+}
+
 /// Whether the loop `lp`, whose points in `(u, v)` are `uv` (as [`uv_polyline`] gives
 /// them), ends a whole period away from where it starts: it closes in model space only
 /// across the surface's seam.
@@ -240,28 +297,51 @@ struct UvPiece {
 }
 
 /// The points of `c` in `(u, v)`, from start to end (`2 n + 1` samples, `n` its control
-/// points, 16 to 256), each projected from the one before and unwrapped across the seam.
-fn uv_path(s: &NurbsSurface, c: &NurbsCurve, periods: Periods, size: f64) -> Vec<(f64, f64)> {
+/// points, 16 to 256), each projected from the one before and unwrapped across the seam;
+/// the first from `start` (unwrapped next to it) when given, else from anywhere.
+fn uv_path(
+    s: &NurbsSurface,
+    c: &NurbsCurve,
+    periods: Periods,
+    size: f64,
+    start: Option<(f64, f64)>,
+) -> Vec<(f64, f64)> {
     let d = c.domain();
     let n = (2 * c.control_points().len()).clamp(16, 256);
     let mut out: Vec<(f64, f64)> = Vec::with_capacity(n + 1);
-    let mut near = None;
+    let (du, dv) = s.domain();
+    let mut near = start.map(|q| into_domain_point(q, (*du.start(), *du.end()), (*dv.start(), *dv.end()), periods));
     for k in 0..=n {
         let t = d.start() + (d.end() - d.start()) * k as f64 / n as f64;
         let pr = s.project_near(&c.eval(t), near, 1e-12 * size, 1e-3 * size);
         near = Some((pr.u, pr.v));
-        out.push(out.last().map_or((pr.u, pr.v), |&last| periods.unwrap((pr.u, pr.v), last)));
+        let from = out.last().copied().or(start);
+        out.push(from.map_or((pr.u, pr.v), |q| periods.unwrap((pr.u, pr.v), q)));
     }
     out
 }
 
+/// `q` moved by whole periods into the domain `du` × `dv`.
+fn into_domain_point(q: (f64, f64), du: (f64, f64), dv: (f64, f64), periods: Periods) -> (f64, f64) {
+    let into = |x: f64, (lo, _): (f64, f64), p: Option<f64>| p.map_or(x, |p| lo + (x - lo).rem_euclid(p));
+    (into(q.0, du, periods.u), into(q.1, dv, periods.v))
+}
+
 /// The loops of a face on a closed surface built in its `(u, v)` from the model-space
-/// `pieces` of its bounds (in any order): each piece is cut where it crosses the seam
-/// line (`u = u0 + k P`, or in `v`) and each part moved by whole periods into the
-/// domain; a piece along the seam line is taken on both sides of the domain (a face
-/// runs along its seam once on each side); then the parts are chained by their ends in
-/// `(u, v)`, nearest first. Returns the loops and their points in `(u, v)` (as
-/// [`uv_polyline`] gives them), or `None` when the parts do not close into loops.
+/// `pieces` of its bounds (in any order; a piece the loops run along twice listed twice):
+///
+/// - a piece along a seam line (`u = u0 + k P`, or in `v`) is taken on both sides of the
+///   domain (a face runs along its seam once on each side);
+/// - a piece run along twice elsewhere is the seam of the file's own parametrisation,
+///   inside this domain: the face lies on both sides of it, and it is left out;
+/// - every piece is cut where it crosses a seam line, and each part moved by whole
+///   periods into the domain;
+/// - the parts are chained by their ends in `(u, v)`, nearest first; where a chain
+///   reaches a seam line and no part goes on, it goes along the line (an iso-parametric
+///   curve of the surface) to the nearest free end on it.
+///
+/// Returns the loops and their points in `(u, v)` (as [`uv_polyline`] gives them), or
+/// `None` when the parts do not close into loops.
 #[allow(clippy::type_complexity)]
 fn seam_loops(
     s: &NurbsSurface,
@@ -271,96 +351,96 @@ fn seam_loops(
 ) -> Option<(Vec<Vec<NurbsCurve>>, Vec<Vec<(f64, f64)>>)> {
     let (du, dv) = s.domain();
     let lines = [(periods.u, *du.start()), (periods.v, *dv.start())];
-    let coord = |q: (f64, f64), k: usize| if k == 0 { q.0 } else { q.1 };
-    let set = |q: (f64, f64), k: usize, x: f64| if k == 0 { (x, q.1) } else { (q.0, x) };
-    let mut parts: Vec<UvPiece> = Vec::new();
-    // A seam a loop runs along twice is one piece here (its two sides come below).
+    // Each distinct piece and how many times the loops run along it.
     let key = |c: &NurbsCurve| {
         let d = c.domain();
-        let (a, b) = (c.eval(*d.start()), c.eval(*d.end()));
-        (a, b, c.eval(0.5 * (d.start() + d.end())))
+        (c.eval(*d.start()), c.eval(*d.end()), c.eval(0.5 * (d.start() + d.end())))
     };
     let same = |x: &NurbsCurve, y: &NurbsCurve| {
         let ((a, b, m), (p, q, r)) = (key(x), key(y));
         let close = |u: Point3<f64>, w: Point3<f64>| (u - w).norm() <= 1e-9 * size;
         close(m, r) && ((close(a, p) && close(b, q)) || (close(a, q) && close(b, p)))
     };
-    let mut distinct: Vec<&NurbsCurve> = Vec::new();
+    let mut distinct: Vec<(&NurbsCurve, usize)> = Vec::new();
     for c in pieces {
-        if !distinct.iter().any(|d| same(d, c)) {
-            distinct.push(c);
+        match distinct.iter_mut().find(|(d, _)| same(d, c)) {
+            Some((_, uses)) => *uses += 1,
+            None => distinct.push((c, 1)),
         }
     }
-    for c in distinct {
-        let path = uv_path(s, c, periods, size);
-        // A piece along a seam line: its two sides.
+    let mut parts: Vec<UvPiece> = Vec::new();
+    // Both sides of each part of a piece along a seam line, and the piece's uses.
+    let mut seam_sides: Vec<((UvPiece, UvPiece), usize)> = Vec::new();
+    for (c, uses) in distinct {
+        let path = uv_path(s, c, periods, size, None);
         let on_line = lines.iter().enumerate().find_map(|(k, &(p, x0))| {
             let p = p?;
             let x = coord(path[0], k);
             let line = x0 + ((x - x0) / p).round() * p;
             path.iter().all(|&q| (coord(q, k) - line).abs() <= 1e-9 * p).then_some((k, x0, p))
         });
-        if let Some((k, x0, p)) = on_line {
-            for side in [x0, x0 + p] {
-                parts.push(UvPiece { curve: c.clone(), uv: path.iter().map(|&q| set(q, k, side)).collect(), seam: true });
+        match on_line {
+            Some((k, x0, p)) => {
+                let mut sides = Vec::with_capacity(2);
+                for side in [x0, x0 + p] {
+                    let image: Vec<(f64, f64)> = path.iter().map(|&q| set(q, k, side)).collect();
+                    let cut = cut_at_lines(s, c, &image, Some(k), lines, periods, size)?;
+                    sides.push(
+                        cut.into_iter()
+                            .map(|(curve, uv)| UvPiece {
+                                curve,
+                                uv: uv.iter().map(|&q| set(q, k, side)).collect(),
+                                seam: true,
+                            })
+                            .collect::<Vec<_>>(),
+                    );
+                }
+                let (a, b) = (sides.remove(0), sides.remove(0));
+                seam_sides.extend(a.into_iter().zip(b).map(|pair| (pair, uses)));
             }
-            continue;
-        }
-        // Cut where the path crosses a seam line strictly between two samples.
-        let d = c.domain();
-        let n = path.len() - 1;
-        let t_at = |i: usize| d.start() + (d.end() - d.start()) * i as f64 / n as f64;
-        let mut cuts: Vec<f64> = Vec::new();
-        for (k, &(p, x0)) in lines.iter().enumerate() {
-            let Some(p) = p else { continue };
-            let cell = |x: f64| ((x - x0) / p).floor();
-            for i in 0..n {
-                let (a, b) = (coord(path[i], k), coord(path[i + 1], k));
-                if cell(a) == cell(b) {
-                    continue;
-                }
-                let line = x0 + cell(a).max(cell(b)) * p;
-                if (a - line).abs() <= 1e-9 * p || (b - line).abs() <= 1e-9 * p {
-                    continue;
-                }
-                // Bisection on the unwrapped coordinate between the two samples.
-                let (mut lo, mut hi) = (t_at(i), t_at(i + 1));
-                for _ in 0..60 {
-                    let mid = 0.5 * (lo + hi);
-                    let pr = s.project_near(&c.eval(mid), Some(path[i]), 1e-12 * size, 1e-3 * size);
-                    let x = coord(periods.unwrap((pr.u, pr.v), path[i]), k);
-                    if (x < line) == (a < line) {
-                        lo = mid;
-                    } else {
-                        hi = mid;
-                    }
-                }
-                cuts.push(0.5 * (lo + hi));
-            }
-        }
-        cuts.sort_by(f64::total_cmp);
-        let mut bounds = vec![*d.start()];
-        bounds.extend(cuts);
-        bounds.push(*d.end());
-        for w in bounds.windows(2) {
-            let part = if w[0] == *d.start() && w[1] == *d.end() { c.clone() } else { c.segment(w[0], w[1]).ok()? };
-            let mut uv = uv_path(s, &part, periods, size);
-            // Moved by whole periods so that its middle lies in the domain.
-            let mid = uv[uv.len() / 2];
-            for (k, &(p, x0)) in lines.iter().enumerate() {
-                let Some(p) = p else { continue };
-                let shift = -((coord(mid, k) - x0) / p).floor() * p;
-                for q in &mut uv {
-                    *q = set(*q, k, coord(*q, k) + shift);
+            None if uses >= 2 => {}
+            None => {
+                for (curve, uv) in cut_at_lines(s, c, &path, None, lines, periods, size)? {
+                    parts.push(UvPiece { curve, uv, seam: false });
                 }
             }
-            parts.push(UvPiece { curve: part, uv, seam: false });
         }
     }
-    // Chain by ends in (u, v).
     let diag = (du.end() - du.start()).hypot(dv.end() - dv.start());
     let tol = 1e-6 * diag;
     let dist = |a: (f64, f64), b: (f64, f64)| (a.0 - b.0).hypot(a.1 - b.1);
+    // A piece along a seam line that the loops run along once bounds the face on one
+    // side only: the side where the other parts' ends meet its ends (both when that
+    // does not tell).
+    let meets = |q: (f64, f64), parts: &[UvPiece]| {
+        parts.iter().filter(|p| dist(p.uv[0], q) <= tol || p.uv.last().is_some_and(|&e| dist(e, q) <= tol)).count()
+    };
+    let mut sided = Vec::new();
+    for ((a, b), uses) in seam_sides {
+        let score = |x: &UvPiece| meets(x.uv[0], &parts) + x.uv.last().map_or(0, |&e| meets(e, &parts));
+        let (sa, sb) = (score(&a), score(&b));
+        if uses >= 2 || sa == sb {
+            sided.push(a);
+            sided.push(b);
+        } else {
+            sided.push(if sa > sb { a } else { b });
+        }
+    }
+    parts.extend(sided);
+    // Chain by ends in (u, v).
+    // The seam lines through `q`, as (direction, value).
+    let lines_through = |q: (f64, f64)| {
+        let mut out = Vec::with_capacity(2);
+        for (k, &(p, x0)) in lines.iter().enumerate() {
+            let Some(p) = p else { continue };
+            let x = coord(q, k);
+            let line = x0 + ((x - x0) / p).round() * p;
+            if (x - line).abs() <= 1e-9 * p {
+                out.push((k, line));
+            }
+        }
+        out
+    };
     let mut used = vec![false; parts.len()];
     let mut loops = Vec::new();
     let mut polys = Vec::new();
@@ -371,7 +451,12 @@ fn seam_loops(
         let mut end = *parts[first].uv.last()?;
         let mut lp = vec![parts[first].curve.clone()];
         let mut poly: Vec<(f64, f64)> = parts[first].uv[..parts[first].uv.len() - 1].to_vec();
+        let mut steps = 0;
         while dist(end, start) > tol {
+            steps += 1;
+            if steps > 4 * parts.len() + 8 {
+                return None;
+            }
             let mut best: Option<(f64, usize, bool)> = None;
             for (i, part) in parts.iter().enumerate() {
                 if used[i] {
@@ -384,24 +469,163 @@ fn seam_loops(
                     }
                 }
             }
-            let (d, i, rev) = best?;
-            if d > tol {
-                return None;
+            match best {
+                Some((d, i, rev)) if d <= tol => {
+                    used[i] = true;
+                    let mut uv = parts[i].uv.clone();
+                    let mut curve = parts[i].curve.clone();
+                    if rev {
+                        uv.reverse();
+                        curve = curve.reversed();
+                    }
+                    end = *uv.last()?;
+                    poly.extend_from_slice(&uv[..uv.len() - 1]);
+                    lp.push(curve);
+                }
+                _ => {
+                    // Along a seam line through the end (two at a corner of the domain)
+                    // to the nearest free end on it (or the start).
+                    let mut targets: Vec<(usize, f64, (f64, f64))> = Vec::new();
+                    for (k, line) in lines_through(end) {
+                        let on = |q: (f64, f64)| (coord(q, k) - line).abs() <= tol;
+                        if on(start) {
+                            targets.push((k, line, start));
+                        }
+                        for (i, part) in parts.iter().enumerate() {
+                            if !used[i] {
+                                for q in [part.uv[0], *part.uv.last()?] {
+                                    if on(q) {
+                                        targets.push((k, line, q));
+                                    }
+                                }
+                            }
+                        }
+                    }
+                    let (k, line, to) = targets
+                        .into_iter()
+                        .filter(|&(_, _, q)| dist(q, end) > tol)
+                        .min_by(|a, b| dist(a.2, end).total_cmp(&dist(b.2, end)))?;
+                    let other = 1 - k;
+                    let (a, b) = (coord(end, other), coord(to, other));
+                    let iso = if k == 0 { s.u_iso(line) } else { s.v_iso(line) };
+                    let piece = iso.segment(a.min(b), a.max(b)).ok()?;
+                    let n = 16;
+                    let uv: Vec<(f64, f64)> =
+                        (0..n).map(|j| set(set(end, other, a + (b - a) * j as f64 / n as f64), k, line)).collect();
+                    poly.extend_from_slice(&uv);
+                    lp.push(if a <= b { piece } else { piece.reversed() });
+                    end = to;
+                }
             }
-            used[i] = true;
-            let mut uv = parts[i].uv.clone();
-            let mut curve = parts[i].curve.clone();
-            if rev {
-                uv.reverse();
-                curve = curve.reversed();
-            }
-            end = *uv.last()?;
-            poly.extend_from_slice(&uv[..uv.len() - 1]);
-            lp.push(curve);
         }
         loops.push(lp);
         polys.push(poly);
     }
-    // Every part off the seam lines is in a loop.
     (!loops.is_empty()).then_some((loops, polys))
+}
+
+/// Coordinate `k` of a point in `(u, v)`.
+fn coord(q: (f64, f64), k: usize) -> f64 {
+    if k == 0 {
+        q.0
+    } else {
+        q.1
+    }
+}
+
+/// `q` with coordinate `k` set to `x`.
+fn set(q: (f64, f64), k: usize, x: f64) -> (f64, f64) {
+    if k == 0 {
+        (x, q.1)
+    } else {
+        (q.0, x)
+    }
+}
+
+/// The curve `c`, whose points in `(u, v)` are `path` (its samples at even steps of its
+/// parameter), cut where the path crosses a seam line `x0 + k P` of a closed direction
+/// other than `skip`; each part with its own points in `(u, v)`, moved by whole periods
+/// so that its middle lies in the domain, and a cut end put on its line.
+#[allow(clippy::type_complexity)]
+fn cut_at_lines(
+    s: &NurbsSurface,
+    c: &NurbsCurve,
+    path: &[(f64, f64)],
+    skip: Option<usize>,
+    lines: [(Option<f64>, f64); 2],
+    periods: Periods,
+    size: f64,
+) -> Option<Vec<(NurbsCurve, Vec<(f64, f64)>)>> {
+    let d = c.domain();
+    let n = path.len() - 1;
+    let t_at = |i: usize| d.start() + (d.end() - d.start()) * i as f64 / n as f64;
+    let mut cuts: Vec<f64> = Vec::new();
+    for (k, &(p, x0)) in lines.iter().enumerate() {
+        let Some(p) = p.filter(|_| skip != Some(k)) else { continue };
+        let cell = |x: f64| ((x - x0) / p).floor();
+        let on_line = |x: f64| {
+            let line = x0 + ((x - x0) / p).round() * p;
+            (x - line).abs() <= 1e-9 * p
+        };
+        for i in 0..n {
+            let (a, b) = (coord(path[i], k), coord(path[i + 1], k));
+            // A sample inside the piece on the line: cut there.
+            if i > 0 && on_line(a) {
+                cuts.push(t_at(i));
+                continue;
+            }
+            if on_line(a) || on_line(b) || cell(a) == cell(b) {
+                continue;
+            }
+            // Bisection on the unwrapped coordinate between the two samples.
+            let line = x0 + cell(a).max(cell(b)) * p;
+            let (mut lo, mut hi) = (t_at(i), t_at(i + 1));
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                let pr = s.project_near(&c.eval(mid), Some(path[i]), 1e-12 * size, 1e-3 * size);
+                let x = coord(periods.unwrap((pr.u, pr.v), path[i]), k);
+                if (x < line) == (a < line) {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            cuts.push(0.5 * (lo + hi));
+        }
+    }
+    cuts.sort_by(f64::total_cmp);
+    let mut bounds = vec![*d.start()];
+    bounds.extend(cuts);
+    bounds.push(*d.end());
+    let mut out = Vec::with_capacity(bounds.len() - 1);
+    for w in bounds.windows(2) {
+        let part = if w[0] == *d.start() && w[1] == *d.end() { c.clone() } else { c.segment(w[0], w[1]).ok()? };
+        // Projected from the whole piece's sample next to the part's start.
+        let from = path[(((w[0] - d.start()) / (d.end() - d.start()) * n as f64).round() as usize).min(n)];
+        let mut uv = uv_path(s, &part, periods, size, Some(from));
+        // Moved by whole periods so that its middle lies in the domain.
+        let mid = uv[uv.len() / 2];
+        for (k, &(p, x0)) in lines.iter().enumerate() {
+            let Some(p) = p.filter(|_| skip != Some(k)) else { continue };
+            let shift = -((coord(mid, k) - x0) / p).floor() * p;
+            for q in &mut uv {
+                *q = set(*q, k, coord(*q, k) + shift);
+            }
+        }
+        // A cut end lies on the seam line (its projection there, at the domain's edge,
+        // can stop short of it).
+        let last = uv.len() - 1;
+        for (end, cut) in [(0, w[0] != *d.start()), (last, w[1] != *d.end())] {
+            for (k, &(p, x0)) in lines.iter().enumerate() {
+                let Some(p) = p.filter(|_| cut && skip != Some(k)) else { continue };
+                let x = coord(uv[end], k);
+                let line = x0 + ((x - x0) / p).round() * p;
+                if (x - line).abs() <= 0.01 * p {
+                    uv[end] = set(uv[end], k, line);
+                }
+            }
+        }
+        out.push((part, uv));
+    }
+    Some(out)
 }

@@ -162,3 +162,63 @@ fn what_does_not_convert_is_refused() {
     let m = cadmorph::open(&cadmorph_testkit::sample("hull3.igs")).unwrap();
     assert!(matches!(cadmorph::save_as(&m, &dir.join("x.txt")), Err(cadmorph::Error::UnknownExtension { .. })));
 }
+
+/// Solids whose faces lie across their closed surfaces' seams, as OCCT's booleans leave
+/// them (`tests/occt/writer_solids.py make DIR --pierced`: a shaft bored across where its
+/// seam runs, a tee meeting the shaft on its seam, a notched shaft, a torus band cut by a
+/// plane; each as STEP, IGES B-rep and IGES faces), converted to the other format (STEP
+/// to both IGES forms): OCCT finds each valid, with the same faces, each face's area and
+/// the solid's volume. Before, the shafts' sides came out of STEP with loops that closed
+/// only across the seam (OCCT read 2758 of 4709 mm² for the bored shaft, and invalid
+/// faces), the torus band from IGES failed on its parameter curves. 1e-7: the bored and
+/// branched sides' parameter curves are fitted to 1e-8 of their box.
+#[test]
+#[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
+fn faces_across_their_surfaces_seams_convert() {
+    let dir = out_dir().join("pierced");
+    let out = std::process::Command::new(cadmorph_testkit::harness::python())
+        .arg(cadmorph_testkit::harness::root().join("tests/occt/writer_solids.py"))
+        .arg("make")
+        .arg(&dir)
+        .arg("--pierced")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // OCCT's writers print their progress to stdout too: the JSON is the last line.
+    let text = String::from_utf8_lossy(&out.stdout);
+    let made: serde_json::Value = serde_json::from_str(text.lines().rfind(|l| !l.trim().is_empty()).unwrap()).unwrap();
+    let files: Vec<PathBuf> =
+        made["files"].as_array().unwrap().iter().map(|f| PathBuf::from(f.as_str().unwrap())).collect();
+    assert_eq!(files.len(), 12);
+    let tol = 1e-7;
+    let converted = dir.join("out");
+    std::fs::create_dir_all(&converted).unwrap();
+    for input in &files {
+        let name = input.file_name().unwrap().to_string_lossy().into_owned();
+        let (code, src) = cadmorph_testkit::harness::validate(input, None);
+        assert_eq!(code, 0, "{name}: {src}");
+        assert_eq!(src["valid"], true, "{name}");
+        let targets: &[(Format, cadmorph::IgesFaces)] = if cadmorph::open(input).unwrap().format() == Format::Iges {
+            &[(Format::Step, cadmorph::IgesFaces::Brep)]
+        } else {
+            &[(Format::Iges, cadmorph::IgesFaces::Brep), (Format::Iges, cadmorph::IgesFaces::Trimmed)]
+        };
+        for &(format, faces) in targets {
+            let file = convert_to(input, format, faces, &converted);
+            let shown = format!("{name} -> {format:?} ({faces:?})");
+            let (code, out) = cadmorph_testkit::harness::validate(&file, None);
+            assert_eq!(code, 0, "{shown}: {out}");
+            assert_eq!(out["valid"], true, "{shown}: {}", out["invalid_faces"]);
+            assert_eq!(out["n_faces"], src["n_faces"], "{shown}");
+            let (a, b) = (src["area_exact"].as_f64().unwrap(), out["area_exact"].as_f64().unwrap());
+            assert!((a - b).abs() <= tol * a, "{shown}: area {b} vs {a}");
+            for (p, q) in sorted(&src["face_areas_exact"]).iter().zip(sorted(&out["face_areas_exact"])) {
+                assert!((p - q).abs() <= tol * p, "{shown}: face area {q} vs {p}");
+            }
+            if src["topology"]["solids"] != 0 && out["topology"]["solids"] != 0 {
+                let (v, w) = (src["volume_exact"].as_f64().unwrap(), out["volume_exact"].as_f64().unwrap());
+                assert!((v - w).abs() <= tol * v, "{shown}: volume {w} vs {v}");
+            }
+        }
+    }
+}

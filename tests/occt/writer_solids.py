@@ -27,6 +27,16 @@ OCCT 7.9.3 through OCP (tests/occt/setup.sh makes the venv). Command:
       * ring_sector: a 6 x 4 rectangle 10 from the axis revolved by 270 degrees, turned
         so that its faces cross the surfaces' u = 0.
 
+  make DIR --pierced
+      Only these, in the same three forms: solids with a face across its closed
+      surface's seam, as booleans leave them (for the conversion checks):
+      * cross_hole: a shaft (r 10, h 60) bored across by a hole (r 3) along x, which
+        goes through the shaft's seam on one side;
+      * tee: the shaft fused with a branch (r 5) along x, meeting it on its seam;
+      * notch: the shaft cut by a box that takes a slot out of it across its seam;
+      * torus_band: a torus (R 20, r 6) about a tilted axis cut to a box: a band
+        around the tube bounded by a plane section and its seam edge.
+
 Exit codes: 0 fine, 1 OCCT failed, 3 bad usage.
 """
 import json
@@ -116,8 +126,26 @@ def more_shapes():
     return out
 
 
+def pierced_shapes():
+    from OCP.gp import gp_Pnt, gp_Dir, gp_Ax2
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder, BRepPrimAPI_MakeBox, BRepPrimAPI_MakeTorus
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut, BRepAlgoAPI_Fuse, BRepAlgoAPI_Common
+
+    def cylinder(origin, axis, r, h):
+        return BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(*origin), gp_Dir(*axis)), r, h).Shape()
+
+    shaft = cylinder((0, 0, 0), (0, 0, 1), 10, 60)
+    torus = BRepPrimAPI_MakeTorus(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0.2, 0.1, 1)), 20, 6).Shape()
+    return {
+        "cross_hole": BRepAlgoAPI_Cut(shaft, cylinder((-20, 0, 30), (1, 0, 0), 3, 40)).Shape(),
+        "tee": BRepAlgoAPI_Fuse(shaft, cylinder((0, 0, 30), (1, 0, 0), 5, 25)).Shape(),
+        "notch": BRepAlgoAPI_Cut(shaft, BRepPrimAPI_MakeBox(gp_Pnt(5, -3, 20), 10, 6, 10).Shape()).Shape(),
+        "torus_band": BRepAlgoAPI_Common(torus, BRepPrimAPI_MakeBox(gp_Pnt(-30, -30, -3), 60, 35, 20).Shape()).Shape(),
+    }
+
+
 def main(argv):
-    if len(argv) not in (2, 3) or argv[0] != "make" or argv[2:] not in ([], ["--more"]):
+    if len(argv) not in (2, 3) or argv[0] != "make" or argv[2:] not in ([], ["--more"], ["--pierced"]):
         print(__doc__, file=sys.stderr)
         return 3
     from OCP.STEPControl import STEPControl_Writer, STEPControl_AsIs
@@ -127,7 +155,7 @@ def main(argv):
     out = argv[1]
     os.makedirs(out, exist_ok=True)
     files = []
-    solids = shapes()
+    solids = pierced_shapes() if argv[2:] == ["--pierced"] else shapes()
     if argv[2:] == ["--more"]:
         solids.update(more_shapes())
     for name, s in solids.items():

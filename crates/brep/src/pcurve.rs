@@ -10,7 +10,7 @@
 //! a pcurve and its model-space curve agree point by point).
 
 use cadmorph_nurbs::math::Point3;
-use cadmorph_nurbs::{fit_curve, Curve, NurbsCurve, NurbsSurface, Side, Surface};
+use cadmorph_nurbs::{fit_curve, Curve, NurbsCurve, NurbsSurface, Projection, Side, Surface};
 
 /// How a surface closes on itself: the period in `u` and in `v`, where it does
 /// (its `UMin` and `UMax` sides coincide within the tolerance, or `VMin` and `VMax`).
@@ -83,7 +83,7 @@ pub fn pcurve(
         let f = k as f64 / n as f64;
         let t = if backwards { t1 - f * (t1 - t0) } else { t0 + f * (t1 - t0) };
         let seed = near.map(|q| wrap(q, s));
-        let pr = s.project_near(&c.eval(t), seed, ptol, accept);
+        let pr = across_seam(s, &c.eval(t), s.project_near(&c.eval(t), seed, ptol, accept), periods, ptol);
         let uv = match near {
             Some(q) => periods.unwrap((pr.u, pr.v), q),
             None => (pr.u, pr.v),
@@ -99,13 +99,39 @@ pub fn pcurve(
     let at = |t: f64| -> Point3<f64> {
         let k = (((t - t0) / (t1 - t0) * n as f64).round().max(0.0) as usize).min(n);
         let q = table[k].1;
-        let pr = s.project_from(&c.eval(t), wrap(q, s), ptol);
+        let pr = across_seam(s, &c.eval(t), s.project_from(&c.eval(t), wrap(q, s), ptol), periods, ptol);
         let (u, v) = periods.unwrap((pr.u, pr.v), q);
         Point3::new(u, v, 0.0)
     };
     let (knots, _) = c.knots().distinct();
     let (curve, _) = fit_curve(at, (t0, t1), &knots, 3, tol, 4096)?;
     Ok((curve, end))
+}
+
+/// A projection `pr` of `p` that stopped on the domain's edge in a closed direction (a
+/// local search from one side of the seam, with the closest point just across it) tried
+/// again from the other side; the closer of the two.
+fn across_seam(s: &NurbsSurface, p: &Point3<f64>, pr: Projection, periods: Periods, tol: f64) -> Projection {
+    if pr.distance_sq <= tol * tol {
+        return pr;
+    }
+    let (du, dv) = s.domain();
+    let other = |x: f64, lo: f64, hi: f64, period: Option<f64>| match period {
+        Some(_) if x <= lo => Some(hi),
+        Some(_) if x >= hi => Some(lo),
+        _ => None,
+    };
+    let seeds = [
+        other(pr.u, *du.start(), *du.end(), periods.u).map(|u| (u, pr.v)),
+        other(pr.v, *dv.start(), *dv.end(), periods.v).map(|v| (pr.u, v)),
+    ];
+    seeds.into_iter().flatten().map(|seed| s.project_from(p, seed, tol)).fold(pr, |best, q| {
+        if q.distance_sq < best.distance_sq {
+            q
+        } else {
+            best
+        }
+    })
 }
 
 /// `q` moved by whole periods into the surface's domain (where a projection starts).
