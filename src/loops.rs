@@ -36,19 +36,36 @@ pub(crate) fn bounded_face<D: CadDocument>(m: &Model<D>, i: usize, tol: f64) -> 
     // A face whose loops all run along the sides of one box in (u, v) (a plane's
     // rectangle; a cylinder's band with its seam, or in loops that close only across
     // the seam, as two full circles) is the whole of the surface cut to that box.
-    if let Some(b) = iso_box(&polys.concat()) {
+    // Where each loop ends, unwrapped after its last point (`uv_polyline` leaves each
+    // curve's end out): a whole period from its start when it closes across the seam.
+    let periods = Periods::of(s, 1e-7 * m.size());
+    let ends: Vec<Option<(f64, f64)>> =
+        polys.iter().zip(&loops).map(|(p, lp)| loop_end(p, lp, s, periods, m.size())).collect();
+    let mut all = polys.concat();
+    all.extend(ends.iter().flatten());
+    if let Some(b) = iso_box(&all) {
         let sub = sub_surface(s, b).map_err(|e| fail(format!("cutting its surface to its box: {e}")))?;
         return Ok(BoundedFace::natural(sub, face.reversed, tol));
     }
     // A face across its surface's seam (a shaft's side pierced where the seam runs, a
     // torus band cut by a plane): loops that close in model space but not in (u, v) are
     // built again in (u, v), cut at the seam.
-    let periods = Periods::of(s, 1e-7 * m.size());
-    let wrapping = polys.iter().zip(&loops).any(|(p, lp)| wraps(p, lp, s, periods, m.size()));
+    let wrapping = polys.iter().zip(&ends).any(|(p, end)| {
+        let off = |d: f64, p: Option<f64>| p.is_some_and(|p| d.abs() > 0.5 * p);
+        matches!((p.first(), end), (Some(a), Some(e)) if off(e.0 - a.0, periods.u) || off(e.1 - a.1, periods.v))
+    });
     // A face across the seam that does not go all the way round (a torus band's end
     // cut off across it): the seam is moved into the largest gap between its loops.
     let mut moved = None;
-    if !wrapping {
+    if wrapping {
+        // The face's own seam (an iso-line its loops run along twice, as its file's
+        // parametrisation has it) inside this domain: the domain's seam is moved there,
+        // so that the face's bounds need no cut.
+        if let Some((k, c)) = file_seam(s, &loops.concat(), periods, m.size()) {
+            let r = if k == 0 { s.reseamed_u(c, 1e-7 * m.size()) } else { s.reseamed_v(c, 1e-7 * m.size()) };
+            moved = Some(r.map_err(|e| fail(format!("moving its surface's seam to the face's: {e}")))?);
+        }
+    } else {
         let (du, dv) = s.domain();
         for (k, p, x0) in [(0, periods.u, *du.start()), (1, periods.v, *dv.start())] {
             let Some(p) = p else { continue };
@@ -235,6 +252,34 @@ fn sub_surface(s: &NurbsSurface, b: [f64; 4]) -> cadmorph_nurbs::Result<NurbsSur
     Ok(out)
 }
 
+/// Whether `x` and `y` are one curve (either way round): their ends and middles within
+/// `1e-9` of the model's `size`.
+fn same_curve(x: &NurbsCurve, y: &NurbsCurve, size: f64) -> bool {
+    let key = |c: &NurbsCurve| {
+        let d = c.domain();
+        (c.eval(*d.start()), c.eval(*d.end()), c.eval(0.5 * (d.start() + d.end())))
+    };
+    let ((a, b, m), (p, q, r)) = (key(x), key(y));
+    let close = |u: Point3<f64>, w: Point3<f64>| (u - w).norm() <= 1e-9 * size;
+    close(m, r) && ((close(a, p) && close(b, q)) || (close(a, q) && close(b, p)))
+}
+
+/// The face's own seam among `pieces`: a piece listed twice (the loops run along it both
+/// ways) that is an iso-line in a closed direction `k` of `s`; `(k, its coordinate)`.
+fn file_seam(s: &NurbsSurface, pieces: &[NurbsCurve], periods: Periods, size: f64) -> Option<(usize, f64)> {
+    (0..pieces.len()).find_map(|i| {
+        if !pieces[i + 1..].iter().any(|q| same_curve(&pieces[i], q, size)) {
+            return None;
+        }
+        let path = uv_path(s, &pieces[i], periods, size, None);
+        [(0, periods.u), (1, periods.v)].into_iter().find_map(|(k, p)| {
+            let p = p?;
+            let x = coord(path[0], k);
+            path.iter().all(|&q| (coord(q, k) - x).abs() <= 1e-9 * p).then_some((k, x))
+        })
+    })
+}
+
 /// Where to move the seam of a closed direction (coordinate `k`, period `p`, domain
 /// from `x0`) so that no loop crosses it: the middle of the largest gap between the
 /// loops' ranges taken round the period; `None` when the seam at `x0` crosses no loop
@@ -276,15 +321,14 @@ fn seam_in_gap(polys: &[Vec<(f64, f64)>], k: usize, p: f64, x0: f64) -> Option<f
     at.filter(|_| best > eps)
 }
 
-/// Whether the loop `lp`, whose points in `(u, v)` are `uv` (as [`uv_polyline`] gives
-/// them), ends a whole period away from where it starts: it closes in model space only
+/// Where the loop `lp`, whose points in `(u, v)` are `uv` (as [`uv_polyline`] gives them,
+/// each curve's end left out), ends: its last curve's end, unwrapped after its last
+/// point. A whole period away from its first point when it closes in model space only
 /// across the surface's seam.
-fn wraps(uv: &[(f64, f64)], lp: &[NurbsCurve], s: &NurbsSurface, periods: Periods, size: f64) -> bool {
-    let (Some(&first), Some(&last), Some(c)) = (uv.first(), uv.last(), lp.last()) else { return false };
+fn loop_end(uv: &[(f64, f64)], lp: &[NurbsCurve], s: &NurbsSurface, periods: Periods, size: f64) -> Option<(f64, f64)> {
+    let (&last, c) = (uv.last()?, lp.last()?);
     let pr = s.project_near(&c.eval(*c.domain().end()), Some(last), 1e-12 * size, 1e-3 * size);
-    let end = periods.unwrap((pr.u, pr.v), last);
-    let off = |d: f64, p: Option<f64>| p.is_some_and(|p| d.abs() > 0.5 * p);
-    off(end.0 - first.0, periods.u) || off(end.1 - first.1, periods.v)
+    Some(periods.unwrap((pr.u, pr.v), last))
 }
 
 /// One piece of a loop built in `(u, v)`: its model-space curve and its points in
@@ -352,18 +396,9 @@ fn seam_loops(
     let (du, dv) = s.domain();
     let lines = [(periods.u, *du.start()), (periods.v, *dv.start())];
     // Each distinct piece and how many times the loops run along it.
-    let key = |c: &NurbsCurve| {
-        let d = c.domain();
-        (c.eval(*d.start()), c.eval(*d.end()), c.eval(0.5 * (d.start() + d.end())))
-    };
-    let same = |x: &NurbsCurve, y: &NurbsCurve| {
-        let ((a, b, m), (p, q, r)) = (key(x), key(y));
-        let close = |u: Point3<f64>, w: Point3<f64>| (u - w).norm() <= 1e-9 * size;
-        close(m, r) && ((close(a, p) && close(b, q)) || (close(a, q) && close(b, p)))
-    };
     let mut distinct: Vec<(&NurbsCurve, usize)> = Vec::new();
     for c in pieces {
-        match distinct.iter_mut().find(|(d, _)| same(d, c)) {
+        match distinct.iter_mut().find(|(d, _)| same_curve(d, c, size)) {
             Some((_, uses)) => *uses += 1,
             None => distinct.push((c, 1)),
         }

@@ -91,6 +91,31 @@ pub fn pcurve(
         table.push((t, uv));
         near = Some(uv);
     }
+    // At a pole (a sphere's, a cone's apex) one coordinate is free: it takes the value
+    // of the nearest sample where it is not, the limit along the curve.
+    let poles: Vec<(bool, bool)> = table.iter().map(|&(_, q)| degenerate(s, wrap(q, s))).collect();
+    for k in 0..2 {
+        let free = |i: usize| if k == 0 { poles[i].0 } else { poles[i].1 };
+        for i in 0..table.len() {
+            if !free(i) {
+                continue;
+            }
+            let before = (0..i).rev().find(|&j| !free(j));
+            let after = (i + 1..table.len()).find(|&j| !free(j));
+            let from = match (before, after) {
+                (Some(a), Some(b)) => Some(if i - a <= b - i { a } else { b }),
+                (a, b) => a.or(b),
+            };
+            if let Some(j) = from {
+                let x = if k == 0 { table[j].1 .0 } else { table[j].1 .1 };
+                if k == 0 {
+                    table[i].1 .0 = x;
+                } else {
+                    table[i].1 .1 = x;
+                }
+            }
+        }
+    }
     if backwards {
         table.reverse();
     }
@@ -100,12 +125,48 @@ pub fn pcurve(
         let k = (((t - t0) / (t1 - t0) * n as f64).round().max(0.0) as usize).min(n);
         let q = table[k].1;
         let pr = across_seam(s, &c.eval(t), s.project_from(&c.eval(t), wrap(q, s), ptol), periods, ptol);
-        let (u, v) = periods.unwrap((pr.u, pr.v), q);
+        let (mut u, mut v) = periods.unwrap((pr.u, pr.v), q);
+        let (free_u, free_v) = degenerate(s, (pr.u, pr.v));
+        if free_u {
+            u = q.0;
+        }
+        if free_v {
+            v = q.1;
+        }
         Point3::new(u, v, 0.0)
     };
     let (knots, _) = c.knots().distinct();
-    let (curve, _) = fit_curve(at, (t0, t1), &knots, 3, tol, 4096)?;
+    let fitted = fit_curve(at, (t0, t1), &knots, 3, tol, 4096);
+    if fitted.is_err() && std::env::var_os("DBG_LOOPS").is_some() {
+        for k in (0..table.len()).step_by((table.len() / 12).max(1)) {
+            eprintln!("  t {} uv {:?} at {:?}", table[k].0, table[k].1, at(table[k].0));
+        }
+        eprintln!("  last {:?}", table.last());
+        let q = wrap(table.last().unwrap().1, s);
+        let d = s.derivs(q.0, q.1, 1);
+        eprintln!("  SURF {:?} {:?} {:?} {:?}", s.u_knots(), s.v_knots(), s.control_points(), s.weights());
+        eprintln!("  su {} sv {} at {:?}", d[(1, 0)].norm(), d[(0, 1)].norm(), q);
+        let (du, dv) = s.domain();
+        for uu in [*du.start(), 0.5 * (du.start() + du.end()), *du.end()] {
+            eprintln!(
+                "   S({uu}, v0) = {:?} S(u, v0+1e-6) = {:?} w {:?} deg {:?}",
+                s.eval(uu, *dv.start()),
+                s.eval(uu, dv.start() + 1e-6),
+                s.weights().map(|w| w.len()),
+                (s.u_degree(), s.v_degree())
+            );
+        }
+    }
+    let (curve, _) = fitted?;
     Ok((curve, end))
+}
+
+/// Whether `u`, and whether `v`, is free at `(u, v)` of `s`: a pole or an apex, where
+/// the partial derivative in it vanishes (`|S_u| ≤ 1e-8 |S_v|`, or the converse).
+fn degenerate(s: &NurbsSurface, (u, v): (f64, f64)) -> (bool, bool) {
+    let d = s.derivs(u, v, 1);
+    let (su, sv) = (d[(1, 0)].norm(), d[(0, 1)].norm());
+    (su <= 1e-8 * sv, sv <= 1e-8 * su)
 }
 
 /// A projection `pr` of `p` that stopped on the domain's edge in a closed direction (a

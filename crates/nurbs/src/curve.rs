@@ -435,6 +435,16 @@ impl NurbsCurve {
             return Err(Error::OutsideDomain { value: t, start: *d.start(), end: *d.end() });
         }
         let mut c = self.clamped();
+        // A knot within rounding of `t` is where it splits (else the split would leave a
+        // span of a few ulps, whose basis derivatives are noise).
+        let eps = crate::tol::KNOT_EQUALITY * (d.end() - d.start()).abs().max(1.0);
+        let t = c
+            .knots
+            .as_slice()
+            .iter()
+            .copied()
+            .find(|&k| (k - t).abs() <= eps && k > *d.start() && k < *d.end())
+            .unwrap_or(t);
         let p = c.degree;
         let present = c.knots.as_slice().iter().filter(|&&k| k == t).count();
         c.insert_knot(t, p.saturating_sub(present))?;
