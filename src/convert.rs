@@ -99,7 +99,7 @@ pub struct BoundedFaces {
     pub join: f64,
 }
 
-/// The faces of `m` with their loops ([`crate::loops`]): what [`convert`] writes, and
+/// The faces of `m` with their loops (see the `loops` module): what [`convert`] writes, and
 /// what a watertight tessellation takes (`cadmorph_mesh::from_cad`). Curves outside
 /// faces are left out.
 ///

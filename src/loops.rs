@@ -9,6 +9,23 @@
 //! the surface's parameters by its signed area (the shoelace formula over points
 //! projected onto the surface): the loop of largest area is the outer one and runs
 //! counterclockwise around the face normal, the others are holes and run clockwise.
+//!
+//! On a closed surface (a cylinder, a torus, a surface of revolution) the written
+//! surface is a clamped B-spline whose domain has a seam line, and a face's loops must
+//! close inside that domain:
+//!
+//! - a face that crosses the seam without going round (a torus band cut across it) gets
+//!   the seam moved into the largest gap between its loops
+//!   ([`NurbsSurface::reseamed_u`]);
+//! - a face that goes round and has its own seam (an iso-line its loops run along both
+//!   ways) gets the domain's seam moved there;
+//! - otherwise (a shaft bored across its seam, a tee) its loops are built again in
+//!   `(u, v)`: bounds cut where they cross the seam line, seam pieces taken on the side
+//!   their neighbours meet (both for a seam run along twice), joined along the seam line
+//!   where the file has no edge there.
+//!
+//! `tests/convert.rs` checks these with OCCT on solids OCCT's booleans make
+//! (`tests/occt/writer_solids.py make DIR --pierced`).
 
 use cadmorph_brep::pcurve::{signed_area, uv_polyline, Periods};
 use cadmorph_brep::{BoundedFace, CadDocument};
@@ -289,7 +306,7 @@ fn seam_in_gap(polys: &[Vec<(f64, f64)>], k: usize, p: f64, x0: f64) -> Option<f
     for poly in polys {
         let xs = poly.iter().map(|&q| coord(q, k));
         let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
-        if !(hi - lo < p) {
+        if hi - lo >= p || (hi - lo).is_nan() {
             return None;
         }
         let s = x0 + (lo - x0).rem_euclid(p);
