@@ -67,6 +67,23 @@ fn sorted(v: &serde_json::Value) -> Vec<f64> {
     x
 }
 
+/// What OCCT measures of `file` (`occt_ref.py validate`), after checking that it reads,
+/// is valid and has the faces of `src` (OCCT's measure of the input), each with its area
+/// and the total area to `tol` relative; `shown` names the file in failures.
+fn same_faces(src: &serde_json::Value, file: &Path, tol: f64, shown: &str) -> serde_json::Value {
+    let (code, out) = cadmorph_testkit::harness::validate(file, None);
+    assert_eq!(code, 0, "{shown}: {out}");
+    assert_eq!(out["transfer_ok"], true, "{shown}");
+    assert_eq!(out["valid"], true, "{shown}: {}", out["invalid_faces"]);
+    assert_eq!(out["n_faces"], src["n_faces"], "{shown}");
+    let (a, b) = (src["area_exact"].as_f64().unwrap(), out["area_exact"].as_f64().unwrap());
+    assert!((a - b).abs() <= tol * a, "{shown}: area {b} vs {a}");
+    for (p, q) in sorted(&src["face_areas_exact"]).iter().zip(sorted(&out["face_areas_exact"])) {
+        assert!((p - q).abs() <= tol * p, "{shown}: face area {q} vs {p}");
+    }
+    out
+}
+
 #[test]
 #[ignore = "needs the OCCT venv (bash tests/occt/setup.sh)"]
 fn occt_reads_converted_files_with_the_same_faces_area_volume_and_topology() {
@@ -89,16 +106,7 @@ fn occt_reads_converted_files_with_the_same_faces_area_volume_and_topology() {
         let tol = area_tol(name);
         for file in [&once, &twice] {
             let shown = file.file_name().unwrap().to_string_lossy().into_owned();
-            let (code, out) = cadmorph_testkit::harness::validate(file, None);
-            assert_eq!(code, 0, "{shown}: {out}");
-            assert_eq!(out["transfer_ok"], true, "{shown}");
-            assert_eq!(out["valid"], true, "{shown}: {}", out["invalid_faces"]);
-            assert_eq!(out["n_faces"], src["n_faces"], "{shown}");
-            let (a, b) = (src["area_exact"].as_f64().unwrap(), out["area_exact"].as_f64().unwrap());
-            assert!((a - b).abs() <= tol * a, "{shown}: area {b} vs {a}");
-            for (p, q) in sorted(&src["face_areas_exact"]).iter().zip(sorted(&out["face_areas_exact"])) {
-                assert!((p - q).abs() <= tol * p, "{shown}: face area {q} vs {p}");
-            }
+            let out = same_faces(&src, file, tol, &shown);
             // A solid stays a solid, with its volume.
             if topology["solids"] != 0 {
                 assert_eq!(out["topology"]["solids"], topology["solids"], "{shown}");
@@ -206,15 +214,7 @@ fn faces_across_their_surfaces_seams_convert() {
         for &(format, faces) in targets {
             let file = convert_to(input, format, faces, &converted);
             let shown = format!("{name} -> {format:?} ({faces:?})");
-            let (code, out) = cadmorph_testkit::harness::validate(&file, None);
-            assert_eq!(code, 0, "{shown}: {out}");
-            assert_eq!(out["valid"], true, "{shown}: {}", out["invalid_faces"]);
-            assert_eq!(out["n_faces"], src["n_faces"], "{shown}");
-            let (a, b) = (src["area_exact"].as_f64().unwrap(), out["area_exact"].as_f64().unwrap());
-            assert!((a - b).abs() <= tol * a, "{shown}: area {b} vs {a}");
-            for (p, q) in sorted(&src["face_areas_exact"]).iter().zip(sorted(&out["face_areas_exact"])) {
-                assert!((p - q).abs() <= tol * p, "{shown}: face area {q} vs {p}");
-            }
+            let out = same_faces(&src, &file, tol, &shown);
             if src["topology"]["solids"] != 0 && out["topology"]["solids"] != 0 {
                 let (v, w) = (src["volume_exact"].as_f64().unwrap(), out["volume_exact"].as_f64().unwrap());
                 assert!((v - w).abs() <= tol * v, "{shown}: volume {w} vs {v}");
