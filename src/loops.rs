@@ -27,7 +27,7 @@
 //! `tests/convert.rs` checks these with OCCT on solids OCCT's booleans make
 //! (`tests/occt/writer_solids.py make DIR --pierced`).
 
-use cadmorph_brep::pcurve::{signed_area, uv_polyline, Periods};
+use cadmorph_brep::pcurve::{signed_area, uv_polyline, wrap, Periods};
 use cadmorph_brep::{BoundedFace, CadDocument};
 use cadmorph_model::{Error, Model, Result};
 use cadmorph_nurbs::math::Point3;
@@ -370,8 +370,7 @@ fn uv_path(
     let d = c.domain();
     let n = (2 * c.control_points().len()).clamp(16, 256);
     let mut out: Vec<(f64, f64)> = Vec::with_capacity(n + 1);
-    let (du, dv) = s.domain();
-    let mut near = start.map(|q| into_domain_point(q, (*du.start(), *du.end()), (*dv.start(), *dv.end()), periods));
+    let mut near = start.map(|q| wrap(q, s));
     for k in 0..=n {
         let t = d.start() + (d.end() - d.start()) * k as f64 / n as f64;
         let pr = s.project_near(&c.eval(t), near, 1e-12 * size, 1e-3 * size);
@@ -380,12 +379,6 @@ fn uv_path(
         out.push(from.map_or((pr.u, pr.v), |q| periods.unwrap((pr.u, pr.v), q)));
     }
     out
-}
-
-/// `q` moved by whole periods into the domain `du` × `dv`.
-fn into_domain_point(q: (f64, f64), du: (f64, f64), dv: (f64, f64), periods: Periods) -> (f64, f64) {
-    let into = |x: f64, (lo, _): (f64, f64), p: Option<f64>| p.map_or(x, |p| lo + (x - lo).rem_euclid(p));
-    (into(q.0, du, periods.u), into(q.1, dv, periods.v))
 }
 
 /// The loops of a face on a closed surface built in its `(u, v)` from the model-space

@@ -116,8 +116,10 @@ pub fn pcurve(
             }
         }
     }
+    let mut poles = poles;
     if backwards {
         table.reverse();
+        poles.reverse();
     }
     let end = if backwards { table[0].1 } else { table[n].1 };
     // Any parameter: projected from the nearest walked point, kept on its sheet.
@@ -126,7 +128,8 @@ pub fn pcurve(
         let q = table[k].1;
         let pr = across_seam(s, &c.eval(t), s.project_from(&c.eval(t), wrap(q, s), ptol), periods, ptol);
         let (mut u, mut v) = periods.unwrap((pr.u, pr.v), q);
-        let (free_u, free_v) = degenerate(s, (pr.u, pr.v));
+        // Only where the walk met a pole (a derivative evaluation per fit point otherwise).
+        let (free_u, free_v) = if poles[k] != (false, false) { degenerate(s, (pr.u, pr.v)) } else { (false, false) };
         if free_u {
             u = q.0;
         }
@@ -136,28 +139,7 @@ pub fn pcurve(
         Point3::new(u, v, 0.0)
     };
     let (knots, _) = c.knots().distinct();
-    let fitted = fit_curve(at, (t0, t1), &knots, 3, tol, 4096);
-    if fitted.is_err() && std::env::var_os("DBG_LOOPS").is_some() {
-        for k in (0..table.len()).step_by((table.len() / 12).max(1)) {
-            eprintln!("  t {} uv {:?} at {:?}", table[k].0, table[k].1, at(table[k].0));
-        }
-        eprintln!("  last {:?}", table.last());
-        let q = wrap(table.last().unwrap().1, s);
-        let d = s.derivs(q.0, q.1, 1);
-        eprintln!("  SURF {:?} {:?} {:?} {:?}", s.u_knots(), s.v_knots(), s.control_points(), s.weights());
-        eprintln!("  su {} sv {} at {:?}", d[(1, 0)].norm(), d[(0, 1)].norm(), q);
-        let (du, dv) = s.domain();
-        for uu in [*du.start(), 0.5 * (du.start() + du.end()), *du.end()] {
-            eprintln!(
-                "   S({uu}, v0) = {:?} S(u, v0+1e-6) = {:?} w {:?} deg {:?}",
-                s.eval(uu, *dv.start()),
-                s.eval(uu, dv.start() + 1e-6),
-                s.weights().map(|w| w.len()),
-                (s.u_degree(), s.v_degree())
-            );
-        }
-    }
-    let (curve, _) = fitted?;
+    let (curve, _) = fit_curve(at, (t0, t1), &knots, 3, tol, 4096)?;
     Ok((curve, end))
 }
 
@@ -196,7 +178,7 @@ fn across_seam(s: &NurbsSurface, p: &Point3<f64>, pr: Projection, periods: Perio
 }
 
 /// `q` moved by whole periods into the surface's domain (where a projection starts).
-fn wrap(q: (f64, f64), s: &NurbsSurface) -> (f64, f64) {
+pub fn wrap(q: (f64, f64), s: &NurbsSurface) -> (f64, f64) {
     let (du, dv) = s.domain();
     let into = |x: f64, lo: f64, hi: f64| {
         let p = hi - lo;
